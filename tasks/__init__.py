@@ -1,0 +1,8 @@
+"""Task definitions, one module per family; importing a module registers its tasks.
+
+This folder is installed as ``unified_manip.tasks``. To add a family, add a module
+here that defines a :class:`unified_manip.backend.Backend` and calls
+:func:`unified_manip.registry.register_task`, and import it below.
+"""
+
+from . import arm4  # noqa: F401

@@ -1,0 +1,34 @@
+"""unified_manip: manipulation tasks from several simulators behind one goal-conditioned
+Gymnasium interface.
+
+``import unified_manip`` registers every task in the ``UnifiedManip`` namespace::
+
+    import gymnasium as gym
+    import unified_manip  # noqa: F401
+
+    env = gym.make("UnifiedManip/Arm4PickAndPlace-v0", action_mode="ee_delta", reward_type="dense")
+"""
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .config import ACTION_MODES, REWARD_TYPES, EnvConfig
+from .registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task
+
+try:
+    __version__ = version("unified_manip")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0.0.0+unknown"
+
+from . import tasks as _tasks  # noqa: E402,F401  (registers every task)
+
+__all__ = [
+    "ACTION_MODES",
+    "REWARD_TYPES",
+    "EnvConfig",
+    "NAMESPACE",
+    "TASKS",
+    "TaskSpec",
+    "get_task",
+    "register_task",
+    "__version__",
+]

@@ -1,0 +1,82 @@
+"""The one abstract base: what a simulator family provides to the shared env.
+
+A *backend* owns one simulator instance for one task and one action mode. The shared
+:class:`unified_manip.env.UnifiedManipEnv` turns it into a goal-conditioned Gymnasium
+env; it never looks at which simulator it is talking to. A family (the 4-DOF arm,
+gymnasium-robotics, robosuite) implements this class once and builds one instance per
+env from the validated :class:`~unified_manip.config.EnvConfig`.
+"""
+
+from __future__ import annotations
+
+import abc
+from typing import Any
+
+import numpy as np
+
+
+class Backend(abc.ABC):
+    """A simulator running one task under one action mode.
+
+    Attributes:
+        action_dim: Length of the ``Box(-1, 1)`` action vector for the chosen mode.
+        dt: Simulated seconds per env step.
+    """
+
+    action_dim: int
+    dt: float
+
+    @abc.abstractmethod
+    def reset(self, np_random: np.random.Generator) -> None:
+        """Start an episode: sample the initial state and the goal from ``np_random``.
+
+        All randomness must come from ``np_random`` so that seeded resets are
+        reproducible bit for bit.
+        """
+
+    @abc.abstractmethod
+    def step(self, action: np.ndarray) -> dict[str, Any]:
+        """Apply a validated, clipped action and advance the simulation one env step.
+
+        Args:
+            action: float64 array of shape ``(action_dim,)`` with values in [-1, 1].
+
+        Returns:
+            Diagnostics to merge into ``info`` (e.g. IK residuals under ``ee_delta``).
+        """
+
+    @abc.abstractmethod
+    def observation(self) -> np.ndarray:
+        """The flat observation vector (any float dtype; the env casts to float32)."""
+
+    @abc.abstractmethod
+    def achieved_goal(self) -> np.ndarray:
+        """The part of the state the goal is compared against."""
+
+    @abc.abstractmethod
+    def desired_goal(self) -> np.ndarray:
+        """The goal sampled at the last reset."""
+
+    @abc.abstractmethod
+    def reward_state(self) -> tuple[float, float]:
+        """``(grip_to_object, grasped)``: gripper-object distance in metres and 1.0
+        while the object is held (0.0 and 0.0 on tasks without an object)."""
+
+    @abc.abstractmethod
+    def unstable(self) -> bool:
+        """True if the physics diverged during the last step (warning or NaN state)."""
+
+    @abc.abstractmethod
+    def render(self) -> np.ndarray | None:
+        """An RGB frame for ``rgb_array``, or ``None`` after drawing for ``human``."""
+
+    def extra_info(self) -> dict[str, Any]:
+        """Task-specific keys to add to ``info`` at reset and on every step."""
+        return {}
+
+    def extra_observations(self) -> dict[str, np.ndarray]:
+        """Extra observation-dict entries (e.g. camera images); empty by default."""
+        return {}
+
+    def close(self) -> None:
+        """Release simulator and renderer resources."""

@@ -1,0 +1,90 @@
+"""The keyword arguments every ``UnifiedManip`` ID accepts, as one frozen dataclass.
+
+``EnvConfig`` validates itself on construction, so a bad ``action_mode`` or
+``reward_type`` fails with a message that lists the valid choices before any
+simulator is built.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+#: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
+ACTION_MODES: tuple[str, ...] = (
+    "joint_torque",
+    "joint_position",
+    "joint_delta",
+    "joint_velocity",
+    "ee_delta",
+    "native",
+)
+
+#: Every reward design the interface knows.
+REWARD_TYPES: tuple[str, ...] = ("sparse", "dense", "dense_penalized")
+
+RENDER_MODES: tuple[str, ...] = ("rgb_array", "human")
+
+
+def _choices(values: tuple[str, ...]) -> str:
+    return ", ".join(repr(v) for v in values)
+
+
+@dataclass(frozen=True)
+class EnvConfig:
+    """Options shared by every task family.
+
+    Attributes:
+        action_mode: How the ``Box(-1, 1)`` action becomes control; one of
+            :data:`ACTION_MODES` that the task supports.
+        reward_type: ``"sparse"`` (0 on success, -1 otherwise), ``"dense"`` (phased
+            shaping) or ``"dense_penalized"`` (dense plus action and drop penalties).
+        terminate_on_success: End the episode with ``terminated=True`` on success.
+        render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
+        render_width: Width in pixels of ``rgb_array`` frames.
+        render_height: Height in pixels of ``rgb_array`` frames.
+        options: Family-specific keyword arguments (e.g. ``robot`` for robosuite),
+            validated by the family itself.
+    """
+
+    action_mode: str = "native"
+    reward_type: str = "sparse"
+    terminate_on_success: bool = False
+    render_mode: str | None = None
+    render_width: int = 480
+    render_height: int = 480
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.action_mode not in ACTION_MODES:
+            raise ValueError(
+                f"unknown action_mode {self.action_mode!r}; "
+                f"expected one of {_choices(ACTION_MODES)}"
+            )
+        if self.reward_type not in REWARD_TYPES:
+            raise ValueError(
+                f"unknown reward_type {self.reward_type!r}; "
+                f"expected one of {_choices(REWARD_TYPES)}"
+            )
+        if self.render_mode is not None and self.render_mode not in RENDER_MODES:
+            raise ValueError(
+                f"unknown render_mode {self.render_mode!r}; "
+                f"expected None or one of {_choices(RENDER_MODES)}"
+            )
+        if not isinstance(self.terminate_on_success, bool):
+            raise TypeError(
+                "terminate_on_success must be a bool, got "
+                f"{type(self.terminate_on_success).__name__}"
+            )
+        for name in ("render_width", "render_height"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or value <= 0:
+                raise ValueError(f"{name} must be a positive int, got {value!r}")
+
+    def require_supported(self, task_id: str, supported: tuple[str, ...]) -> None:
+        """Raise ``ValueError`` if the task does not support the chosen action mode."""
+        if self.action_mode not in supported:
+            raise ValueError(
+                f"action_mode {self.action_mode!r} is not supported by {task_id}; "
+                f"expected one of {_choices(supported)}"
+            )

@@ -1,0 +1,209 @@
+"""The one concrete env class: a goal-conditioned Gymnasium env over any backend."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium_robotics.core import GoalEnv
+
+from .config import EnvConfig
+from .registry import get_task
+from .rewards import info_arrays, make_reward_spec
+
+
+class UnifiedManipEnv(GoalEnv):
+    """A task from any family behind one goal-conditioned interface.
+
+    Build it with ``gym.make("UnifiedManip/<Task>-v0", **kwargs)``; the task's own
+    documentation is in ``env.unwrapped.task.doc`` (and ``unified-manip list --doc``).
+
+    Args:
+        task_id: The registered ID (filled in by the registration).
+        action_mode: See :data:`unified_manip.config.ACTION_MODES`.
+        reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
+        terminate_on_success: End the episode (``terminated=True``) on success.
+        render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
+        render_width: Width of ``rgb_array`` frames in pixels.
+        render_height: Height of ``rgb_array`` frames in pixels.
+        **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
+
+    Observation:
+        ``Dict(observation, achieved_goal, desired_goal)``, all float32 ``Box``.
+
+    Info (at reset and on every step):
+        ``is_success`` (1.0 / 0.0), ``grip_to_object``, ``grasped``, ``dropped``,
+        ``action_sq``, ``sim_unstable``, plus ``reward_terms`` on steps and the
+        action mode's diagnostics (``ik_residual`` in metres and
+        ``ik_limit_active`` under ``ee_delta``).
+    """
+
+    metadata = {"render_modes": ["rgb_array", "human"], "render_fps": 25}
+
+    def __init__(
+        self,
+        task_id: str,
+        action_mode: str = "native",
+        reward_type: str = "sparse",
+        terminate_on_success: bool = False,
+        render_mode: str | None = None,
+        render_width: int = 480,
+        render_height: int = 480,
+        **options: Any,
+    ) -> None:
+        self.task = get_task(task_id)
+        self.config = EnvConfig(
+            action_mode=action_mode,
+            reward_type=reward_type,
+            terminate_on_success=terminate_on_success,
+            render_mode=render_mode,
+            render_width=render_width,
+            render_height=render_height,
+            options=dict(options),
+        )
+        self.config.require_supported(task_id, self.task.action_modes)
+        self.render_mode = render_mode
+        self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
+        self.reward_spec = make_reward_spec(reward_type, self.task.kind)
+        self._threshold = self.task.distance_threshold
+        self._backend = self.task.make_backend(self.config)
+
+        # Size the spaces from one reset of the backend with a throwaway generator.
+        self._backend.reset(np.random.default_rng(0))
+        obs = self._observation_dict()
+        n = self._backend.action_dim
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
+        self.observation_space = spaces.Dict(
+            {
+                key: spaces.Box(-np.inf, np.inf, shape=v.shape, dtype=np.float32)
+                if v.dtype == np.float32
+                else spaces.Box(0, 255, shape=v.shape, dtype=np.uint8)
+                for key, v in obs.items()
+            }
+        )
+        self._action_shape = (n,)
+        self._last_obs = obs
+        self._was_grasped = 0.0
+
+    # ------------------------------------------------------------------ Gymnasium API
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed, options=options)
+        self._backend.reset(self.np_random)
+        obs = self._observation_dict()
+        self._last_obs = obs
+        grip_to_object, grasped = self._backend.reward_state()
+        self._was_grasped = grasped
+        info = {
+            "is_success": self._success(obs),
+            "grip_to_object": grip_to_object,
+            "grasped": grasped,
+            "dropped": 0.0,
+            "action_sq": 0.0,
+            "sim_unstable": False,
+            **self._backend.extra_info(),
+        }
+        if self.render_mode == "human":
+            self.render()
+        return obs, info
+
+    def step(self, action):
+        action = self._validate_action(action)
+        diagnostics = self._backend.step(action)
+        unstable = self._backend.unstable()
+        # A diverged simulator has no meaningful state: keep the last finite observation.
+        obs = self._last_obs if unstable else self._observation_dict()
+        self._last_obs = obs
+        grip_to_object, grasped = self._backend.reward_state()
+        if unstable:
+            grip_to_object, grasped = 0.0, 0.0
+        info = {
+            "grip_to_object": grip_to_object,
+            "grasped": grasped,
+            "dropped": float(self._was_grasped > 0.5 and grasped < 0.5),
+            "action_sq": float(action @ action),
+            "sim_unstable": unstable,
+            **diagnostics,
+            **self._backend.extra_info(),
+        }
+        self._was_grasped = grasped
+        # Same dtype path as compute_reward, so the two agree bit for bit.
+        distance = self.task.goal_distance(
+            obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64)
+        )
+        success = float(distance < self._threshold)
+        ctx = {k: info[k] for k in ("grip_to_object", "grasped", "dropped", "action_sq")}
+        terms = self.reward_spec.terms_batch(distance, success, ctx)
+        reward = float(sum(terms.values()))
+        info["is_success"] = success
+        info["reward_terms"] = {k: float(v) for k, v in terms.items()}
+        terminated = bool(self.config.terminate_on_success and success > 0.5)
+        if self.render_mode == "human":
+            self.render()
+        return obs, reward, terminated, unstable, info
+
+    def render(self):
+        if self.render_mode is None:
+            return None
+        return self._backend.render()
+
+    def close(self) -> None:
+        self._backend.close()
+
+    # ------------------------------------------------------------------ GoalEnv API
+    def compute_reward(self, achieved_goal, desired_goal, info):
+        """Reward for goals of shape ``(g,)`` or ``(B, g)``; equals ``step()``'s reward.
+
+        ``info`` is one info dict, or a sequence / object array of ``B`` of them.
+        """
+        achieved_goal = np.asarray(achieved_goal, dtype=np.float64)
+        desired_goal = np.asarray(desired_goal, dtype=np.float64)
+        distance = self.task.goal_distance(achieved_goal, desired_goal)
+        success = (distance < self._threshold).astype(np.float64)
+        ctx = info_arrays(info, np.shape(distance))
+        return self.reward_spec.total(distance, success, ctx)
+
+    def compute_terminated(self, achieved_goal, desired_goal, info):
+        """True on success when ``terminate_on_success`` is set, else False."""
+        distance = self.task.goal_distance(achieved_goal, desired_goal)
+        return np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+
+    def compute_truncated(self, achieved_goal, desired_goal, info):
+        """Always False here: the time limit is applied by ``gym.make``'s TimeLimit."""
+        return False
+
+    # ------------------------------------------------------------------ pickling
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        state["task"] = self.task.id  # specs hold factories; look them up again
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        state["task"] = get_task(state["task"])
+        self.__dict__.update(state)
+
+    # ------------------------------------------------------------------ helpers
+    def _validate_action(self, action) -> np.ndarray:
+        a = np.asarray(action, dtype=np.float64)
+        if a.shape != self._action_shape:
+            raise ValueError(
+                f"action must have shape {self._action_shape} for {self.task.id} "
+                f"with action_mode={self.config.action_mode!r}, got shape {a.shape}"
+            )
+        if not np.isfinite(a).all():
+            raise ValueError(f"action must be finite, got {a.tolist()} (NaN or inf)")
+        return np.clip(a, -1.0, 1.0)
+
+    def _observation_dict(self) -> dict[str, np.ndarray]:
+        b = self._backend
+        obs = {
+            "observation": np.asarray(b.observation(), dtype=np.float32),
+            "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
+            "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
+        }
+        obs.update(b.extra_observations())
+        return obs
+
+    def _success(self, obs: dict[str, np.ndarray]) -> float:
+        d = self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"])
+        return float(d < self._threshold)

@@ -1,0 +1,103 @@
+"""The ID table: every task registers one :class:`TaskSpec` here.
+
+A task module calls :func:`register_task` at import time. That adds the spec to
+:data:`TASKS` and registers ``UnifiedManip/<name>-v<version>`` with Gymnasium, so
+``gym.make`` and ``unified-manip list`` see it at once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+import gymnasium as gym
+import numpy as np
+
+from .config import ACTION_MODES, EnvConfig
+from .rewards import TASK_KINDS
+
+if TYPE_CHECKING:
+    from .backend import Backend
+
+NAMESPACE = "UnifiedManip"
+
+
+def euclidean(achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
+    """Goal distance along the last axis, in the goal's units."""
+    return np.linalg.norm(np.asarray(achieved_goal) - np.asarray(desired_goal), axis=-1)
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """Everything the shared env and the CLI need to know about one task.
+
+    Attributes:
+        name: Short name, e.g. ``"Arm4Reach"``; the ID is ``UnifiedManip/<name>-v<version>``.
+        family: The simulator family, e.g. ``"arm4"``.
+        kind: ``"reach"``, ``"push"`` or ``"grasp"``; selects the dense reward's terms.
+        make_backend: Builds the backend for a validated config.
+        action_modes: The action modes this task supports.
+        goal_dim: Length of ``achieved_goal`` and ``desired_goal``.
+        max_episode_steps: The time limit ``gym.make`` applies.
+        distance_threshold: Success when the goal distance is below this.
+        doc: The task's documentation: what it is, what success means, the layout
+            of observation and goal with units.
+        goal_distance: Vectorised distance between goals, shape ``(..., g) -> (...)``.
+        scripted_policy: Builds a scripted policy (a callable ``obs -> action``) for
+            a given action mode, or ``None`` if the task has none.
+        version: The ``-vN`` suffix. Bump it on any behaviour change.
+        render_fps: Frames per second of a rollout video.
+    """
+
+    name: str
+    family: str
+    kind: str
+    make_backend: Callable[[EnvConfig], "Backend"]
+    action_modes: tuple[str, ...]
+    goal_dim: int
+    max_episode_steps: int
+    distance_threshold: float
+    doc: str
+    goal_distance: Callable[[np.ndarray, np.ndarray], np.ndarray] = euclidean
+    scripted_policy: Callable[[str], Callable[[dict[str, np.ndarray]], np.ndarray]] | None = None
+    version: int = 0
+    render_fps: int = 25
+
+    def __post_init__(self) -> None:
+        if self.kind not in TASK_KINDS:
+            raise ValueError(f"{self.name}: unknown kind {self.kind!r}; expected one of {TASK_KINDS}")
+        unknown = [m for m in self.action_modes if m not in ACTION_MODES]
+        if unknown:
+            raise ValueError(f"{self.name}: unknown action modes {unknown}; expected from {ACTION_MODES}")
+
+    @property
+    def id(self) -> str:
+        return f"{NAMESPACE}/{self.name}-v{self.version}"
+
+
+#: Every registered task, by ID, in registration order.
+TASKS: dict[str, TaskSpec] = {}
+
+
+def register_task(spec: TaskSpec) -> TaskSpec:
+    """Add ``spec`` to :data:`TASKS` and register its ID with Gymnasium."""
+    if spec.id in TASKS:
+        raise ValueError(f"{spec.id} is already registered")
+    TASKS[spec.id] = spec
+    gym.register(
+        id=spec.id,
+        entry_point="unified_manip.env:UnifiedManipEnv",
+        kwargs={"task_id": spec.id},
+        max_episode_steps=spec.max_episode_steps,
+    )
+    return spec
+
+
+def get_task(task_id: str) -> TaskSpec:
+    """Look up a task by ID, with an error that lists the valid IDs."""
+    try:
+        return TASKS[task_id]
+    except KeyError:
+        raise ValueError(
+            f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}"
+        ) from None
