@@ -22,7 +22,7 @@ import numpy as np
 
 from unified_manip.backend import Backend
 from unified_manip.config import ACTION_MODES, EnvConfig
-from unified_manip.control import ArmGains, ArmRig, make_mujoco_control, physics_unstable
+from unified_manip.control import ArmGains, ArmRig, bad_state_warnings, make_mujoco_control, physics_unstable
 from unified_manip.registry import TaskSpec, register_task
 
 ASSET = Path(__file__).parent / "assets" / "arm4.xml"
@@ -122,7 +122,7 @@ class Arm4Backend(Backend):
             self._obj_q = int(m.jnt_qposadr[jnt.id])
             self._obj_v = int(m.jnt_dofadr[jnt.id])
             self._obj_geom = m.geom("object_geom").id
-            self._finger_geoms = {m.geom("finger_l_geom").id, m.geom("finger_r_geom").id}
+            self._finger_geoms = (m.geom("finger_l_geom").id, m.geom("finger_r_geom").id)
         self._goal = np.zeros(3)
         self._warnings = 0
         self._render_cfg = (config.render_mode, config.render_width, config.render_height)
@@ -153,18 +153,18 @@ class Arm4Backend(Backend):
         mujoco.mj_forward(m, d)
         self.control.reset()
         self.rig.set_gripper(1.0)
-        self._warnings = int(d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
+        self._warnings = bad_state_warnings(d)
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         diagnostics = self.control(action)
-        self._warnings = int(self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
+        self._warnings = bad_state_warnings(self.data)
         mujoco.mj_step(self.model, self.data, nstep=SUBSTEPS)
         # Site positions for the observation (mj_step leaves them one substep behind).
         mujoco.mj_kinematics(self.model, self.data)
         return diagnostics
 
     def unstable(self) -> bool:
-        return physics_unstable(self.model, self.data, self._warnings)
+        return physics_unstable(self.data, self._warnings)
 
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
@@ -205,18 +205,16 @@ class Arm4Backend(Backend):
         return dist, float(self._fingers_touching())
 
     def _fingers_touching(self) -> bool:
+        """Both fingers are in contact with the cube."""
         d = self.data
-        if d.ncon == 0:
+        if d.ncon < 2:
             return False
-        geoms = d.contact.geom
+        pairs = d.contact.geom
+        left, right = self._finger_geoms
         obj = self._obj_geom
-        touching = set()
-        for g1, g2 in geoms:
-            if g1 == obj:
-                touching.add(int(g2))
-            elif g2 == obj:
-                touching.add(int(g1))
-        return self._finger_geoms <= touching
+        with_obj = (pairs == obj).any(axis=1)
+        other = pairs[with_obj].ravel()
+        return bool((other == left).any() and (other == right).any())
 
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:
@@ -269,6 +267,9 @@ def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     return np.array([0.0, 0.0, 0.0, -1.0], dtype=np.float32)
 
 
+PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL = 0.5, 10.0, 0.03
+
+
 def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     """Go behind the cube (seen from the goal), lower the closed gripper, push."""
     o = obs["observation"]
@@ -276,25 +277,23 @@ def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     obj = o[15:18]
     to_goal = o[31:34]
     direction = to_goal[:2] / max(np.linalg.norm(to_goal[:2]), 1e-6)
-    behind = obj.copy()
-    behind[:2] -= direction * 0.065
-    behind[2] = obj[2] + 0.005
     rel = grip[:2] - obj[:2]
-    along = float(rel @ direction)
+    along = float(rel @ direction)  # negative: the gripper is behind the cube
     lateral = float(abs(rel[0] * direction[1] - rel[1] * direction[0]))
-    if along < -0.04 and lateral < 0.012 and grip[2] < obj[2] + 0.02:
-        target = obj.copy()
-        target[:2] += direction * 0.04
-        target[2] = behind[2]
-        return np.append(_toward(target - grip, 6.0), -1.0).astype(np.float32)
-    if np.linalg.norm(grip[:2] - behind[:2]) > 0.01:
-        above = behind.copy()
-        above[2] = obj[2] + 0.08
-        # Rise first if low near the cube, so the fingers do not knock it.
-        if grip[2] < obj[2] + 0.06 and np.linalg.norm(rel) < 0.09:
+    push_z = obj[2] + 0.01
+    if along < -0.03 and lateral < PUSH_LATERAL_TOL and grip[2] < obj[2] + 0.03:
+        # Steer back onto the line through the cube and the goal while pushing.
+        correction = (obj[:2] - along * direction) - grip[:2]
+        move = np.append(direction * PUSH_SPEED + correction * PUSH_STEER, (push_z - grip[2]) * 20.0)
+        return np.append(np.clip(move, -1, 1), -1.0).astype(np.float32)
+    behind = np.append(obj[:2] - direction * 0.07, push_z)
+    if np.linalg.norm(grip[:2] - behind[:2]) > 0.015:
+        if grip[2] < obj[2] + 0.05 and np.linalg.norm(rel) < 0.1:  # rise clear of the cube first
             return np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)
-        return np.append(_toward(above - grip), -1.0).astype(np.float32)
-    return np.append(_toward(behind - grip), -1.0).astype(np.float32)
+        above = behind.copy()
+        above[2] = obj[2] + 0.07
+        return np.append(_toward(above - grip, 20.0), -1.0).astype(np.float32)
+    return np.append(_toward(behind - grip, 20.0), -1.0).astype(np.float32)
 
 
 def _scripted(policy: Callable[[dict[str, np.ndarray]], np.ndarray]):

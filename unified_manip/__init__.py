@@ -9,7 +9,14 @@ Gymnasium interface.
     env = gym.make("UnifiedManip/Arm4PickAndPlace-v0", action_mode="ee_delta", reward_type="dense")
 """
 
-from importlib.metadata import PackageNotFoundError, version
+import os as _os
+
+# Headless machines (no display) render offscreen with EGL unless told otherwise. This
+# must happen before mujoco is first imported, which reads MUJOCO_GL at import time.
+if "MUJOCO_GL" not in _os.environ and not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")):
+    _os.environ["MUJOCO_GL"] = "egl"
+
+from importlib.metadata import PackageNotFoundError, version  # noqa: E402
 
 from .config import ACTION_MODES, REWARD_TYPES, EnvConfig
 from .registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task

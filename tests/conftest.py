@@ -1,0 +1,45 @@
+"""Shared fixtures: every registered ID x action mode x reward type."""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import unified_manip  # noqa: E402
+
+ALL_IDS = list(unified_manip.TASKS)
+ID_MODES = [(tid, mode) for tid, spec in unified_manip.TASKS.items() for mode in spec.action_modes]
+ID_MODE_REWARDS = [(tid, mode, r) for tid, mode in ID_MODES for r in unified_manip.REWARD_TYPES]
+
+
+def make(task_id: str, action_mode: str = "native", reward_type: str = "sparse", **kwargs) -> gym.Env:
+    return gym.make(task_id, action_mode=action_mode, reward_type=reward_type, **kwargs)
+
+
+def rollout(env: gym.Env, seed: int, actions: np.ndarray):
+    """Reset with ``seed``, play ``actions``; return everything the env produced."""
+    obs, info = env.reset(seed=seed)
+    out = [(obs, None, None, None, info)]
+    for a in actions:
+        out.append(env.step(a))
+    return out
+
+
+def random_actions(env: gym.Env, n: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return rng.uniform(-1.0, 1.0, size=(n,) + env.action_space.shape).astype(np.float32)
+
+
+@pytest.fixture(params=ID_MODE_REWARDS, ids=lambda p: "-".join(p).replace("UnifiedManip/", ""))
+def id_mode_reward(request):
+    return request.param
+
+
+@pytest.fixture(params=ID_MODES, ids=lambda p: "-".join(p).replace("UnifiedManip/", ""))
+def id_mode(request):
+    return request.param

@@ -1,0 +1,309 @@
+"""The interface contract, checked on every registered ID x action mode x reward type.
+
+In the style of gymnasium-robotics' ``tests/test_envs.py``: env checkers, seeded
+determinism with two envs side by side, the ``reward == compute_reward`` invariant
+(batched), pickling, rendering and bad input.
+"""
+
+from __future__ import annotations
+
+import pickle
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from conftest import ALL_IDS, ID_MODES, make, random_actions, rollout
+from gymnasium.utils.env_checker import check_env as gym_check_env
+from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+import unified_manip
+from unified_manip.rewards import INFO_KEYS
+
+
+def _assert_same(a, b):
+    """Bit-identical comparison of nested observations / infos / rewards."""
+    if isinstance(a, dict):
+        assert a.keys() == b.keys()
+        for k in a:
+            _assert_same(a[k], b[k])
+    elif isinstance(a, (tuple, list)):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            _assert_same(x, y)
+    elif isinstance(a, np.ndarray):
+        assert a.dtype == b.dtype and a.shape == b.shape
+        assert np.array_equal(a, b), f"{a} != {b}"
+    else:
+        assert a == b or (a != a and b != b), f"{a!r} != {b!r}"
+
+
+# ---------------------------------------------------------------------- checkers
+def test_gymnasium_env_checker(id_mode_reward):
+    task_id, mode, reward = id_mode_reward
+    env = make(task_id, mode, reward, disable_env_checker=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # every checker warning is a failure, except:
+        # unbounded observation boxes, which gymnasium-robotics' own envs use too.
+        warnings.filterwarnings("ignore", message=r".*infinity. This is probably too (low|high)")
+        gym_check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+def test_sb3_env_checker(id_mode_reward):
+    task_id, mode, reward = id_mode_reward
+    env = make(task_id, mode, reward)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sb3_check_env(env.unwrapped, warn=True, skip_render_check=True)
+    env.close()
+
+
+# ---------------------------------------------------------------------- spaces and info
+def test_spaces_and_info(id_mode_reward):
+    task_id, mode, reward = id_mode_reward
+    spec = unified_manip.TASKS[task_id]
+    env = make(task_id, mode, reward)
+    assert isinstance(env.observation_space, gym.spaces.Dict)
+    assert set(env.observation_space.spaces) == {"observation", "achieved_goal", "desired_goal"}
+    for space in env.observation_space.spaces.values():
+        assert space.dtype == np.float32
+    assert env.observation_space["desired_goal"].shape == (spec.goal_dim,)
+    assert env.action_space == gym.spaces.Box(-1.0, 1.0, env.action_space.shape, np.float32)
+    assert env.spec.max_episode_steps == spec.max_episode_steps
+
+    obs, info = env.reset(seed=3)
+    assert env.observation_space.contains(obs)
+    assert info["is_success"] in (0.0, 1.0)
+    obs, r, terminated, truncated, info = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs)
+    assert isinstance(r, float)
+    assert set(INFO_KEYS) <= info.keys()
+    assert info["is_success"] in (0.0, 1.0)
+    assert info["sim_unstable"] is False
+    assert r == pytest.approx(sum(info["reward_terms"].values()), abs=1e-12)
+    assert tuple(info["reward_terms"]) == env.unwrapped.reward_spec.term_names
+    if mode == "ee_delta":
+        assert info["ik_residual"] >= 0.0
+        assert isinstance(info["ik_limit_active"], bool)
+    env.close()
+
+
+# ---------------------------------------------------------------------- determinism
+def test_seeded_determinism_side_by_side(id_mode):
+    """Two envs, same seed and actions: bit-identical rollouts, across several resets."""
+    task_id, mode = id_mode
+    env1, env2 = make(task_id, mode, "dense_penalized"), make(task_id, mode, "dense_penalized")
+    actions = random_actions(env1, 40, seed=1)
+    for seed in (0, 7, 0):
+        _assert_same(rollout(env1, seed, actions), rollout(env2, seed, actions))
+    # A different seed gives a different episode.
+    o1, _ = env1.reset(seed=1)
+    o2, _ = env2.reset(seed=2)
+    assert not np.array_equal(o1["desired_goal"], o2["desired_goal"])
+    env1.close()
+    env2.close()
+
+
+def test_unseeded_reset_continues_the_rng_stream(id_mode):
+    task_id, mode = id_mode
+    env1, env2 = make(task_id, mode), make(task_id, mode)
+    env1.reset(seed=5)
+    env2.reset(seed=5)
+    _assert_same(env1.reset()[0], env2.reset()[0])
+
+
+# ---------------------------------------------------------------------- reward invariant
+def test_compute_reward_equals_step_reward_batched(id_mode_reward):
+    task_id, mode, reward = id_mode_reward
+    env = make(task_id, mode, reward)
+    env.reset(seed=11)
+    ag, dg, infos, rewards = [], [], [], []
+    for a in random_actions(env, 60, seed=2):
+        obs, r, _, _, info = env.step(a)
+        ag.append(obs["achieved_goal"])
+        dg.append(obs["desired_goal"])
+        infos.append(info)
+        rewards.append(r)
+    ag, dg = np.array(ag), np.array(dg)
+    infos = np.array(infos, dtype=object)
+    batched = env.unwrapped.compute_reward(ag, dg, infos)
+    assert batched.shape == (len(rewards),)
+    np.testing.assert_array_equal(batched, np.array(rewards))
+    # Single-transition calls agree with the batch, and relabelled goals (as HER
+    # does) give the reward the step would have given for that goal.
+    for i in (0, 17, 59):
+        assert env.unwrapped.compute_reward(ag[i], dg[i], infos[i]) == rewards[i]
+    relabelled = env.unwrapped.compute_reward(ag, ag, infos)
+    success_bonus = {"sparse": 0.0, "dense": 10.0, "dense_penalized": 10.0}[reward]
+    assert np.all(relabelled >= batched - 1e-12) or success_bonus == 0.0
+    if reward == "sparse":
+        np.testing.assert_array_equal(relabelled, 0.0)
+        assert set(np.unique(batched)) <= {-1.0, 0.0}
+    env.close()
+
+
+def test_compute_terminated_and_truncated(id_mode):
+    task_id, mode = id_mode
+    env = make(task_id, mode).unwrapped
+    obs, info = env.reset(seed=0)
+    ag = obs["achieved_goal"]
+    assert not env.compute_terminated(ag, ag, info)
+    assert env.compute_truncated(ag, ag, info) is False
+    env2 = make(task_id, mode, terminate_on_success=True).unwrapped
+    assert env2.compute_terminated(ag, ag, info)
+    assert not env2.compute_terminated(ag, ag + 1.0, info)
+
+
+# ---------------------------------------------------------------------- episode end
+def test_time_limit_truncates_not_terminates(id_mode):
+    task_id, mode = id_mode
+    env = make(task_id, mode)
+    env.reset(seed=0)
+    n = env.spec.max_episode_steps
+    zeros = np.zeros(env.action_space.shape, np.float32)
+    for i in range(n):
+        _, _, terminated, truncated, info = env.step(zeros)
+        assert not terminated
+        assert truncated == (i == n - 1)
+
+
+def test_max_episode_steps_kwarg():
+    env = make(ALL_IDS[0], max_episode_steps=3)
+    env.reset(seed=0)
+    zeros = np.zeros(env.action_space.shape, np.float32)
+    assert [env.step(zeros)[3] for _ in range(3)] == [False, False, True]
+
+
+# ---------------------------------------------------------------------- pickling / vec
+def test_pickle_roundtrip_continues_identically(id_mode):
+    task_id, mode = id_mode
+    env = make(task_id, mode, "dense")
+    env.reset(seed=4)
+    actions = random_actions(env, 10, seed=3)
+    for a in actions[:5]:
+        env.step(a)
+    clone = pickle.loads(pickle.dumps(env))
+    for a in actions[5:]:
+        _assert_same(env.step(a), clone.step(a))
+
+
+@pytest.mark.parametrize("task_id", ALL_IDS)
+def test_subproc_vec_env_of_two(task_id):
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import SubprocVecEnv
+
+    # "module:ID" makes each worker import unified_manip, which registers the IDs.
+    vec = make_vec_env(f"unified_manip:{task_id}", n_envs=2, seed=0, vec_env_cls=SubprocVecEnv, env_kwargs={"action_mode": "ee_delta"})
+    try:
+        obs = vec.reset()
+        assert obs["observation"].shape[0] == 2
+        for _ in range(5):
+            obs, rewards, dones, infos = vec.step(np.stack([vec.action_space.sample() for _ in range(2)]))
+        assert rewards.shape == (2,) and len(infos) == 2 and "is_success" in infos[0]
+        # The two workers were seeded differently.
+        assert not np.array_equal(obs["desired_goal"][0], obs["desired_goal"][1])
+        rewards = vec.env_method("compute_reward", obs["achieved_goal"], obs["desired_goal"], np.array(infos), indices=[0])[0]
+        assert rewards.shape == (2,)
+    finally:
+        vec.close()
+
+
+# ---------------------------------------------------------------------- rendering
+@pytest.mark.parametrize("task_id", ALL_IDS)
+def test_render_rgb_array_headless(task_id):
+    env = make(task_id, "ee_delta", render_mode="rgb_array", render_width=160, render_height=120)
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
+    assert frame.std() > 5.0  # a real picture, not a blank buffer
+    env.step(env.action_space.sample())
+    assert env.render().shape == (120, 160, 3)
+    env.close()
+
+
+def test_render_none_returns_none():
+    env = make(ALL_IDS[0])
+    env.reset(seed=0)
+    assert env.render() is None
+
+
+# ---------------------------------------------------------------------- bad input
+def test_bad_action_shape_and_values(id_mode):
+    task_id, mode = id_mode
+    env = make(task_id, mode)
+    env.reset(seed=0)
+    n = env.action_space.shape[0]
+    with pytest.raises(ValueError) as err:
+        env.step(np.zeros(n + 1, np.float32))
+    assert str(err.value) == (
+        f"action must have shape ({n},) for {task_id} with action_mode={mode!r}, got shape ({n + 1},)"
+    )
+    bad = np.zeros(n, np.float32)
+    bad[0] = np.nan
+    with pytest.raises(ValueError) as err:
+        env.step(bad)
+    assert str(err.value) == f"action must be finite, got {bad.astype(np.float64).tolist()} (NaN or inf)"
+    bad[0] = np.inf
+    with pytest.raises(ValueError, match=r"action must be finite"):
+        env.step(bad)
+    # Nothing was applied by the rejected actions: the state equals a fresh reset's.
+    fresh = make(task_id, mode)
+    o_fresh, _ = fresh.reset(seed=0)
+    a = np.full(n, 5.0, np.float32)  # out of range: clipped, not an error
+    _assert_same(env.step(a), fresh.step(np.ones(n, np.float32)))
+
+
+def test_unknown_action_mode_and_reward_type():
+    tid = ALL_IDS[0]
+    with pytest.raises(ValueError) as err:
+        make(tid, action_mode="cartesian")
+    assert str(err.value) == (
+        "unknown action_mode 'cartesian'; expected one of 'joint_torque', 'joint_position', "
+        "'joint_delta', 'joint_velocity', 'ee_delta', 'native'"
+    )
+    with pytest.raises(ValueError) as err:
+        make(tid, reward_type="shaped")
+    assert str(err.value) == "unknown reward_type 'shaped'; expected one of 'sparse', 'dense', 'dense_penalized'"
+    with pytest.raises(ValueError) as err:
+        make(tid, render_mode="ansi")
+    assert str(err.value) == "unknown render_mode 'ansi'; expected None or one of 'rgb_array', 'human'"
+
+
+def test_unknown_task_id_lists_ids():
+    with pytest.raises(ValueError) as err:
+        unified_manip.get_task("UnifiedManip/Nope-v0")
+    assert str(err.value).startswith("unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/")
+
+
+# ---------------------------------------------------------------------- stability
+def test_diverged_physics_truncates_with_flag():
+    """A blown-up state ends the episode with truncated=True and sim_unstable=True."""
+    env = make("UnifiedManip/Arm4PickAndPlace-v0", "joint_torque")
+    obs0, _ = env.reset(seed=0)
+    data = env.unwrapped._backend.data
+    data.qvel[:] = 1e12  # what a diverging integrator produces
+    obs, reward, terminated, truncated, info = env.step(np.zeros(5, np.float32))
+    assert truncated is True and terminated is False
+    assert info["sim_unstable"] is True
+    assert all(np.isfinite(v).all() for v in obs.values())
+    assert np.isfinite(reward)
+    # Reset brings back a healthy simulator.
+    env.reset(seed=0)
+    _, _, _, truncated, info = env.step(np.zeros(5, np.float32))
+    assert not truncated and info["sim_unstable"] is False
+
+
+@pytest.mark.parametrize("task_id,mode", ID_MODES, ids=lambda p: str(p).replace("UnifiedManip/", ""))
+def test_ten_thousand_random_steps_stay_stable(task_id, mode):
+    env = make(task_id, mode, max_episode_steps=200)
+    env.reset(seed=0)
+    rng = np.random.default_rng(0)
+    actions = rng.uniform(-1, 1, size=(10_000,) + env.action_space.shape).astype(np.float32)
+    unstable = 0
+    for a in actions:
+        obs, _, terminated, truncated, info = env.step(a)
+        unstable += info["sim_unstable"]
+        if terminated or truncated:
+            env.reset()
+    assert unstable == 0
