@@ -34,15 +34,7 @@ CUBE_REST_Z = TABLE_Z + CUBE_HALF
 #: Closed fingers sit at 0; a cube held between them keeps them near this opening.
 FINGER_ON_CUBE = 0.01
 
-GAINS = ArmGains(
-    kp=(300.0, 300.0, 200.0, 100.0),
-    kv=(30.0, 30.0, 20.0, 10.0),
-    max_torque=(40.0, 40.0, 25.0, 10.0),
-    kv_velocity=(30.0, 30.0, 20.0, 10.0),
-    max_velocity=2.0,
-    max_delta=0.05,
-    ee_step=0.05,
-)
+GAINS = ArmGains(kv_velocity=(20.0, 20.0, 12.0, 6.0), max_velocity=2.0, max_delta=0.05, ee_step=0.025)
 
 #: Arm posture at reset: grip site about 15 cm above the table, pointing down.
 HOME_TARGET = np.array([0.45, 0.0, 0.58])
@@ -163,6 +155,9 @@ class Arm4Backend(Backend):
         mujoco.mj_kinematics(self.model, self.data)
         return diagnostics
 
+    def physics_step(self) -> None:
+        mujoco.mj_step(self.model, self.data, nstep=SUBSTEPS)
+
     def unstable(self) -> bool:
         return physics_unstable(self.data, self._warnings)
 
@@ -267,7 +262,7 @@ def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     return np.array([0.0, 0.0, 0.0, -1.0], dtype=np.float32)
 
 
-PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL = 0.5, 10.0, 0.03
+PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL, PUSH_SLOWDOWN = 0.5, 20.0, 0.03, 10.0
 
 
 def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
@@ -281,10 +276,16 @@ def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     along = float(rel @ direction)  # negative: the gripper is behind the cube
     lateral = float(abs(rel[0] * direction[1] - rel[1] * direction[0]))
     push_z = obj[2] + 0.01
+    remaining = float(np.linalg.norm(to_goal[:2]))
+    if remaining < 0.015:  # close enough: stop, so the cube does not slide past
+        return np.array([0.0, 0.0, 0.0, -1.0], dtype=np.float32)
     if along < -0.03 and lateral < PUSH_LATERAL_TOL and grip[2] < obj[2] + 0.03:
-        # Steer back onto the line through the cube and the goal while pushing.
+        # Steer back onto the line through the cube and the goal while pushing, and
+        # slow down near the goal.
         correction = (obj[:2] - along * direction) - grip[:2]
-        move = np.append(direction * PUSH_SPEED + correction * PUSH_STEER, (push_z - grip[2]) * 20.0)
+        speed = min(PUSH_SPEED, PUSH_SLOWDOWN * remaining)
+        steer = np.clip(correction * PUSH_STEER, -0.3, 0.3)
+        move = np.append(direction * speed + steer, (push_z - grip[2]) * 20.0)
         return np.append(np.clip(move, -1, 1), -1.0).astype(np.float32)
     behind = np.append(obj[:2] - direction * 0.07, push_z)
     if np.linalg.norm(grip[:2] - behind[:2]) > 0.015:

@@ -46,6 +46,12 @@ class Backend(abc.ABC):
         """
 
     @abc.abstractmethod
+    def physics_step(self) -> None:
+        """Advance the simulator by one env step with the current controls, and nothing
+        else: no control law, observation or reward. ``unified-manip speed`` times it
+        as the raw physics limit the env's step rate is compared against."""
+
+    @abc.abstractmethod
     def observation(self) -> np.ndarray:
         """The flat observation vector (any float dtype; the env casts to float32)."""
 

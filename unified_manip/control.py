@@ -34,28 +34,26 @@ SERVO_MODES: tuple[str, ...] = ("joint_position", "joint_delta", "ee_delta")
 
 @dataclass(frozen=True)
 class ArmGains:
-    """Per-family actuation limits and gains (scalars or one value per arm joint).
+    """Per-family scales of the action modes (scalars or one value per arm joint).
+
+    The position-servo gains and the torque limits are not here: they are read from
+    the model's arm actuators (``gainprm[0]`` = kp, ``-biasprm[2]`` = kv,
+    ``forcerange`` = torque limit), so the MJCF stays the one place they are set.
 
     Attributes:
-        kp: Position-servo stiffness, N m / rad.
-        kv: Position-servo damping, N m s / rad.
-        max_torque: Torque limit in every mode, N m.
-        kv_velocity: Velocity-servo gain, N m s / rad.
+        kv_velocity: Velocity-servo gain in ``joint_velocity``, N m s / rad.
         max_velocity: Joint speed at ``|a| = 1`` in ``joint_velocity``, rad/s.
         max_delta: Target change at ``|a| = 1`` in ``joint_delta``, rad per step.
         ee_step: Grip-site displacement at ``|a| = 1`` in ``ee_delta``, m per step.
     """
 
-    kp: Any
-    kv: Any
-    max_torque: Any
     kv_velocity: Any
     max_velocity: Any
     max_delta: float = 0.05
     ee_step: float = 0.05
 
     def __post_init__(self) -> None:
-        for name in ("kp", "kv", "max_torque", "kv_velocity", "max_velocity", "max_delta", "ee_step"):
+        for name in ("kv_velocity", "max_velocity", "max_delta", "ee_step"):
             if np.any(np.asarray(getattr(self, name), dtype=float) <= 0):
                 raise ValueError(f"ArmGains.{name} must be positive, got {getattr(self, name)!r}")
 
@@ -64,8 +62,9 @@ class ArmRig:
     """Indices of an arm and its gripper inside a MuJoCo model.
 
     Args:
-        model: The model; its arm actuators must be ``general`` actuators on the
-            arm joints, in the same order as ``joints``.
+        model: The model; its arm actuators must be force-limited ``general``
+            position servos on the arm joints, in the same order as ``joints``. Their
+            gains and force limits are the servo gains and torque limits of every mode.
         data: The data the env steps.
         joints: Names of the arm joints.
         actuators: Names of the arm actuators, one per joint.
@@ -73,7 +72,7 @@ class ArmRig:
         gripper_closed: Gripper ctrl at action -1.
         gripper_open: Gripper ctrl at action +1.
         site: Name of the end-effector site (IK frame, reach goal).
-        gains: Actuation limits and gains.
+        gains: The action modes' scales.
     """
 
     def __init__(
@@ -104,9 +103,12 @@ class ArmRig:
         self.gains = gains
         n = len(joints)
         self.n = n
-        self.kp = np.broadcast_to(np.asarray(gains.kp, float), (n,)).copy()
-        self.kv = np.broadcast_to(np.asarray(gains.kv, float), (n,)).copy()
-        self.max_torque = np.broadcast_to(np.asarray(gains.max_torque, float), (n,)).copy()
+        ids = self.actuator_ids
+        if not np.all(model.actuator_forcelimited[ids]) or np.any(model.actuator_gainprm[ids, 0] <= 0):
+            raise ValueError("arm actuators must be force-limited position servos (gainprm[0] = kp > 0)")
+        self.kp = model.actuator_gainprm[ids, 0].copy()
+        self.kv = -model.actuator_biasprm[ids, 2].copy()
+        self.max_torque = model.actuator_forcerange[ids, 1].copy()
         self.kv_velocity = np.broadcast_to(np.asarray(gains.kv_velocity, float), (n,)).copy()
         self.max_velocity = np.broadcast_to(np.asarray(gains.max_velocity, float), (n,)).copy()
 
@@ -126,7 +128,9 @@ class ArmRig:
             m.actuator_ctrlrange[ids, 0] = -self.max_torque
             m.actuator_ctrlrange[ids, 1] = self.max_torque
         elif mode == "joint_velocity":
-            m.actuator_gainprm[ids, 0] = self.kv_velocity
+            # force = (kv + d) v_cmd - kv qdot: the feed-forward d v_cmd cancels the
+            # joint's passive damping d, so the joint settles at exactly v_cmd.
+            m.actuator_gainprm[ids, 0] = self.kv_velocity + m.dof_damping[self.dof_adr]
             m.actuator_biasprm[ids, 2] = -self.kv_velocity
             m.actuator_ctrlrange[ids, 0] = -self.max_velocity
             m.actuator_ctrlrange[ids, 1] = self.max_velocity

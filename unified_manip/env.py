@@ -112,7 +112,7 @@ class UnifiedManipEnv(GoalEnv):
         diagnostics = self._backend.step(action)
         unstable = self._backend.unstable()
         # A diverged simulator has no meaningful state: keep the last finite observation.
-        obs = self._last_obs if unstable else self._observation_dict()
+        obs = {k: v.copy() for k, v in self._last_obs.items()} if unstable else self._observation_dict()
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         if unstable:

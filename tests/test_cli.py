@@ -1,0 +1,71 @@
+"""The ``unified-manip`` command line, run as a user would: in a subprocess."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import imageio.v3 as iio
+
+import unified_manip
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, check=check, timeout=600
+    )
+
+
+def test_list_shows_every_id_with_modes_rewards_goal_dim_and_length():
+    out = run("list").stdout
+    for tid, spec in unified_manip.TASKS.items():
+        row = next(line for line in out.splitlines() if tid in line)
+        cells = [c.strip() for c in re.split(r"[│|]", row) if c.strip()]
+        assert cells[1] == spec.family
+        assert cells[2] == ", ".join(spec.action_modes)
+        assert cells[3] == "sparse, dense, dense_penalized"
+        assert cells[4] == str(spec.goal_dim)
+        assert cells[5] == str(spec.max_episode_steps)
+
+
+def test_list_doc_prints_the_task_documentation():
+    out = run("list", "--doc", "UnifiedManip/Arm4PickAndPlace-v0").stdout
+    assert "Observation (34,)" in out and "Success" in out
+
+
+def test_bad_input_is_one_line_and_exit_code_2():
+    proc = run("list", "--doc", "UnifiedManip/Nope-v0", check=False)
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "invalid choice: 'UnifiedManip/Nope-v0'" in proc.stderr
+    proc = run("speed", "--steps", "0", check=False)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().endswith("expected a positive integer, got '0'")
+    proc = run("demo", "--env", "UnifiedManip/Nope-v0", check=False)
+    assert proc.returncode == 2
+    assert "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0" in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_speed_reports_env_and_raw_rates(tmp_path):
+    out = tmp_path / "speed.json"
+    run("speed", "--env", "UnifiedManip/Arm4Reach-v0", "--modes", "joint_position,ee_delta", "--steps", "200", "--json", str(out))
+    rows = json.loads(out.read_text())
+    assert [r["action_mode"] for r in rows] == ["joint_position", "ee_delta"]
+    for r in rows:
+        assert r["env_steps_per_s"] > 0 and r["raw_steps_per_s"] > 0
+        assert r["ratio_to_raw"] == r["env_steps_per_s"] / r["raw_steps_per_s"]
+
+
+def test_demo_writes_a_picture_strip(tmp_path):
+    out = tmp_path / "strip.png"
+    proc = run("demo", "--out", str(out), "--frames", "3", "--size", "64")
+    image = iio.imread(out)
+    n = sum(1 for s in unified_manip.TASKS.values() if s.scripted_policy)
+    assert image.shape == (64 * n, 64 * 3, 3)
+    assert proc.stdout.count(": success") == n

@@ -1,0 +1,130 @@
+"""The ``unified-manip`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from rich.console import Console
+from rich.table import Table
+
+from .config import REWARD_TYPES
+from .registry import TASKS
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but errors are one line naming the valid choices, exit code 2."""
+
+    def error(self, message: str) -> None:  # noqa: D102
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _task_ids(value: str | None) -> list[str] | None:
+    if value is None:
+        return None
+    ids = [v.strip() for v in value.split(",") if v.strip()]
+    unknown = [v for v in ids if v not in TASKS]
+    if unknown:
+        raise argparse.ArgumentTypeError(
+            f"unknown task {unknown[0]!r}; expected one of {', '.join(TASKS)}"
+        )
+    return ids
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    console = Console(width=args.width)
+    if args.doc:
+        console.print(TASKS[args.doc].doc, markup=False, highlight=False)
+        return 0
+    table = Table(title="UnifiedManip tasks")
+    for col in ("ID", "family", "action modes", "reward types", "goal dim", "episode steps"):
+        table.add_column(col)
+    for tid, spec in TASKS.items():
+        table.add_row(
+            tid,
+            spec.family,
+            ", ".join(spec.action_modes),
+            ", ".join(REWARD_TYPES),
+            str(spec.goal_dim),
+            str(spec.max_episode_steps),
+        )
+    console.print(table)
+    return 0
+
+
+def cmd_speed(args: argparse.Namespace) -> int:
+    from . import speed
+
+    results = speed.run(args.env, args.modes, steps=args.steps)
+    table = Table(title=f"env steps/s vs raw physics ({args.steps} steps each)")
+    for col in ("ID", "action mode", "env steps/s", "raw physics steps/s", "env / raw", "mode / joint_position"):
+        table.add_column(col, justify="right")
+    by_key = {(r.task_id, r.action_mode): r for r in results}
+    for r in results:
+        jp = by_key.get((r.task_id, "joint_position"))
+        rel = f"{r.env_steps_per_s / jp.env_steps_per_s:.2f}" if jp else "-"
+        table.add_row(
+            r.task_id, r.action_mode, f"{r.env_steps_per_s:,.0f}", f"{r.raw_steps_per_s:,.0f}", f"{r.ratio_to_raw:.2f}", rel
+        )
+    Console(width=args.width).print(table)
+    if args.json:
+        Path(args.json).write_text(json.dumps([r.as_dict() for r in results], indent=2))
+    return 0
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from . import demo
+
+    successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env)
+    for tid, ok in successes.items():
+        print(f"{tid}: {'success' if ok else 'failure'}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="unified-manip", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("list", help="table of every registered ID")
+    p.add_argument("--doc", choices=list(TASKS), metavar="ID", help="print one task's documentation")
+    p.add_argument("--width", type=int, default=200, help="table width in characters")
+    p.set_defaults(func=cmd_list)
+
+    p = sub.add_parser("speed", help="env steps/s per ID x action mode, against the raw physics limit")
+    p.add_argument("--env", type=_task_ids, help="comma-separated IDs (default: all)")
+    p.add_argument("--modes", type=lambda s: s.split(","), help="comma-separated action modes (default: all)")
+    p.add_argument("--steps", type=_positive_int, default=2000, help="steps per measurement")
+    p.add_argument("--json", help="also write the results to this JSON file")
+    p.add_argument("--width", type=int, default=200)
+    p.set_defaults(func=cmd_speed)
+
+    p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
+    p.add_argument("--out", default="demo.png", help="output PNG")
+    p.add_argument("--env", type=_task_ids, help="comma-separated IDs (default: all with a scripted policy)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--frames", type=_positive_int, default=6, help="pictures per task")
+    p.add_argument("--size", type=_positive_int, default=200, help="picture size in pixels")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def _positive_int(value: str) -> int:
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value!r}") from None
+    if n <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value!r}")
+    return n
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
