@@ -22,7 +22,7 @@ import numpy as np
 
 from unified_manip.backend import Backend
 from unified_manip.config import ACTION_MODES, EnvConfig
-from unified_manip.control import ArmGains, ArmRig, bad_state_warnings, make_mujoco_control, physics_unstable
+from unified_manip.control import ArmGains, ArmRig, bad_state_warnings, make_mujoco_control
 from unified_manip.registry import TaskSpec, register_task
 
 ASSET = Path(__file__).parent / "assets" / "arm4.xml"
@@ -108,6 +108,10 @@ class Arm4Backend(Backend):
         self._fingers_q = m.jnt_qposadr[[m.joint("finger_l").id, m.joint("finger_r").id]]
         self._fingers_v = m.jnt_dofadr[[m.joint("finger_l").id, m.joint("finger_r").id]]
         self._site = self.rig.site_id
+        # observation() slices qpos/qvel directly: arm joints, fingers, then the cube.
+        expected_nq = 6 if kind == "reach" else 13
+        if m.nq != expected_nq or list(self._fingers_q) != [4, 5] or list(self._arm_q) != [0, 1, 2, 3]:
+            raise RuntimeError(f"{ASSET.name}: unexpected joint layout (nq={m.nq}); update Arm4Backend.observation")
         self._goal_site = m.site("goal").id
         if kind != "reach":
             jnt = m.joint("obj_joint")
@@ -116,7 +120,7 @@ class Arm4Backend(Backend):
             self._obj_geom = m.geom("object_geom").id
             self._finger_geoms = (m.geom("finger_l_geom").id, m.geom("finger_r_geom").id)
         self._goal = np.zeros(3)
-        self._warnings = 0
+        self._unstable = False
         self._render_cfg = (config.render_mode, config.render_width, config.render_height)
         self._renderer = None
 
@@ -145,12 +149,15 @@ class Arm4Backend(Backend):
         mujoco.mj_forward(m, d)
         self.control.reset()
         self.rig.set_gripper(1.0)
-        self._warnings = bad_state_warnings(d)
+        self._unstable = False
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         diagnostics = self.control(action)
-        self._warnings = bad_state_warnings(self.data)
-        mujoco.mj_step(self.model, self.data, nstep=SUBSTEPS)
+        before = bad_state_warnings(self.data)
+        self.physics_step()
+        # MuJoCo checks qpos, qvel and qacc on every substep and resets a diverged
+        # state itself, counting a warning: a new warning means this step blew up.
+        self._unstable = bad_state_warnings(self.data) > before
         # Site positions for the observation (mj_step leaves them one substep behind).
         mujoco.mj_kinematics(self.model, self.data)
         return diagnostics
@@ -159,28 +166,16 @@ class Arm4Backend(Backend):
         mujoco.mj_step(self.model, self.data, nstep=SUBSTEPS)
 
     def unstable(self) -> bool:
-        return physics_unstable(self.data, self._warnings)
+        return self._unstable
 
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
         d = self.data
         grip = d.site_xpos[self._site]
-        proprio = (
-            d.qpos[self._arm_q],
-            d.qvel[self._arm_v],
-            d.qpos[self._fingers_q],
-            d.qvel[self._fingers_v],
-            grip,
-        )
         if self.kind == "reach":
-            return np.concatenate(proprio + (self._goal - grip,))
-        o = self._obj_q
-        v = self._obj_v
-        obj = d.qpos[o : o + 3]
-        return np.concatenate(
-            proprio
-            + (obj, d.qpos[o + 3 : o + 7], d.qvel[v : v + 6], obj - grip, self._goal - obj)
-        )
+            return np.concatenate((d.qpos[:6], d.qvel[:6], grip, self._goal - grip))
+        obj = d.qpos[6:9]
+        return np.concatenate((d.qpos, d.qvel, grip, obj - grip, self._goal - obj))
 
     def achieved_goal(self) -> np.ndarray:
         if self.kind == "reach":
@@ -235,6 +230,11 @@ class Arm4Backend(Backend):
 # Each maps an observation dict to an ee_delta action (dx, dy, dz, gripper), using the
 # documented observation layout. They are memoryless, so they work from any state.
 
+#: Slices of the push / pick-and-place observation (see the task docs).
+OBS_FINGERS, OBS_CUBE, OBS_GRIP = slice(4, 6), slice(6, 9), slice(25, 28)
+OBS_CUBE_REL, OBS_GOAL_REL = slice(28, 31), slice(31, 34)
+
+
 def _toward(delta: np.ndarray, gain: float = 10.0) -> np.ndarray:
     return np.clip(delta * gain, -1.0, 1.0)
 
@@ -248,9 +248,9 @@ def reach_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
 def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     """Hover over the cube, descend open, close, then carry it to the goal."""
     o = obs["observation"]
-    fingers = o[8:10]
-    to_obj = o[28:31]
-    to_goal = o[31:34]
+    fingers = o[OBS_FINGERS]
+    to_obj = o[OBS_CUBE_REL]
+    to_goal = o[OBS_GOAL_REL]
     closed_on_cube = bool(np.all(fingers < FINGER_ON_CUBE + 0.006))
     if closed_on_cube and np.linalg.norm(to_obj) < 0.02:
         return np.append(_toward(to_goal), -1.0).astype(np.float32)
@@ -268,9 +268,9 @@ PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL, PUSH_SLOWDOWN = 0.5, 20.0, 0.03, 10.0
 def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     """Go behind the cube (seen from the goal), lower the closed gripper, push."""
     o = obs["observation"]
-    grip = o[12:15]
-    obj = o[15:18]
-    to_goal = o[31:34]
+    grip = o[OBS_GRIP]
+    obj = o[OBS_CUBE]
+    to_goal = o[OBS_GOAL_REL]
     direction = to_goal[:2] / max(np.linalg.norm(to_goal[:2]), 1e-6)
     rel = grip[:2] - obj[:2]
     along = float(rel @ direction)  # negative: the gripper is behind the cube
@@ -309,16 +309,12 @@ def _scripted(policy: Callable[[dict[str, np.ndarray]], np.ndarray]):
 
 
 # ------------------------------------------------------------------ registration
-_OBS_PROPRIO = """\
-    ====  =========================================  =====
-    idx   content                                    units
-    ====  =========================================  =====
-    0-3   joint angles j0..j3                        rad
-    4-7   joint velocities j0..j3                    rad/s
-    8-9   finger openings (left, right), 0 closed    m
-    10-11 finger velocities                          m/s
-    12-14 grip-site position                         m
+_TABLE_HEAD = """\
+    =====  ==========================================  ==========
+    index  content                                     units
+    =====  ==========================================  ==========
 """
+_TABLE_END = "    =====  ==========================================  ==========\n"
 
 REACH_DOC = f"""Arm4Reach: bring the 4-DOF arm's grip site to a goal point.
 
@@ -327,24 +323,31 @@ The goal is sampled uniformly in x [0.30, 0.60], y [-0.25, 0.25], z [0.46, 0.65]
 is within 5 cm of the goal. 50 steps of 20 ms.
 
 Observation (18,):
-{_OBS_PROPRIO}    15-17 goal - grip site                           m
-    ====  =========================================  =====
-
+{_TABLE_HEAD}    0-3    joint angles j0..j3                         rad
+    4-5    finger openings (left, right), 0 = closed   m
+    6-9    joint velocities j0..j3                     rad/s
+    10-11  finger velocities                           m/s
+    12-14  grip-site position (world)                  m
+    15-17  goal - grip site                            m
+{_TABLE_END}
 Goal (3,): achieved = grip-site position, desired = goal point, m.
 Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
 Dense reward: reach = 1 - tanh(5 d), success bonus 10.
 Version history: v0 initial.
 """
 
-_OBJ_ROWS = """\
-    15-17 cube position                              m
-    18-21 cube orientation quaternion (w, x, y, z)
-    22-24 cube linear velocity                       m/s
-    25-27 cube angular velocity                      rad/s
-    28-30 cube - grip site                           m
-    31-33 goal - cube                                m
-    ====  =========================================  =====
-"""
+_OBJECT_TABLE = f"""{_TABLE_HEAD}    0-3    joint angles j0..j3                         rad
+    4-5    finger openings (left, right), 0 = closed   m
+    6-8    cube position (world)                       m
+    9-12   cube orientation quaternion (w, x, y, z)
+    13-16  joint velocities j0..j3                     rad/s
+    17-18  finger velocities                           m/s
+    19-21  cube linear velocity                        m/s
+    22-24  cube angular velocity                       rad/s
+    25-27  grip-site position (world)                  m
+    28-30  cube - grip site                            m
+    31-33  goal - cube                                 m
+{_TABLE_END}"""
 
 PUSH_DOC = f"""Arm4Push: push the cube across the table to a goal on the table.
 
@@ -354,7 +357,7 @@ at least 10 cm from the cube. Success: the cube's centre is within 5 cm of the g
 100 steps of 20 ms.
 
 Observation (34,):
-{_OBS_PROPRIO}{_OBJ_ROWS}
+{_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
 Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d)) without a
@@ -370,7 +373,7 @@ z [0.50, 0.60] m, i.e. 5.5-15.5 cm above the cube's resting height, as in the de
 Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
 
 Observation (34,):
-{_OBS_PROPRIO}{_OBJ_ROWS}
+{_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
 Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
