@@ -13,6 +13,7 @@ family is ``joint_delta``, as in the design document.
 
 from __future__ import annotations
 
+import math
 from functools import partial
 from pathlib import Path
 from typing import Any, Callable
@@ -47,12 +48,14 @@ PLACE_GOAL_LOW, PLACE_GOAL_HIGH = np.array([0.30, 0.10, 0.50]), np.array([0.50, 
 
 
 def top_down(target: np.ndarray) -> np.ndarray:
-    """Rotation of a grip site pointing straight down, facing away from the base."""
-    yaw = np.arctan2(target[1], target[0])
-    c, s = np.cos(yaw), np.sin(yaw)
-    rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    ry = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # +90 deg about y
-    return rz @ ry
+    """Rotation of a grip site pointing straight down, facing away from the base.
+
+    That is Rz(yaw) @ Ry(+90 deg) with yaw = atan2(y, x): the site's x axis points
+    down and its z axis radially outwards.
+    """
+    r = math.hypot(target[0], target[1])
+    c, s = (target[0] / r, target[1] / r) if r > 1e-9 else (1.0, 0.0)
+    return np.array(((0.0, -s, c), (0.0, c, s), (-1.0, 0.0, 0.0)))
 
 
 def _load_model(with_object: bool) -> mujoco.MjModel:
@@ -189,10 +192,9 @@ class Arm4Backend(Backend):
         if self.kind == "reach":
             return 0.0, 0.0
         d = self.data
-        grip = d.site_xpos[self._site]
-        obj = d.qpos[self._obj_q : self._obj_q + 3]
-        dist = float(np.sqrt(((grip - obj) ** 2).sum()))
-        return dist, float(self._fingers_touching())
+        dist = math.dist(d.site_xpos[self._site], d.qpos[6:9])
+        # A grasp needs the cube between the fingers: skip the contact scan otherwise.
+        return dist, float(dist < 0.04 and self._fingers_touching())
 
     def _fingers_touching(self) -> bool:
         """Both fingers are in contact with the cube."""

@@ -54,7 +54,7 @@ def test_bad_input_is_one_line_and_exit_code_2():
 
 def test_speed_reports_env_and_raw_rates(tmp_path):
     out = tmp_path / "speed.json"
-    run("speed", "--env", "UnifiedManip/Arm4Reach-v0", "--modes", "joint_position,ee_delta", "--steps", "200", "--json", str(out))
+    run("speed", "--env", "UnifiedManip/Arm4Reach-v0", "--modes", "joint_position,ee_delta", "--steps", "200", "--repeats", "1", "--json", str(out))
     rows = json.loads(out.read_text())
     assert [r["action_mode"] for r in rows] == ["joint_position", "ee_delta"]
     for r in rows:

@@ -57,16 +57,22 @@ def cmd_list(args: argparse.Namespace) -> int:
 def cmd_speed(args: argparse.Namespace) -> int:
     from . import speed
 
-    results = speed.run(args.env, args.modes, steps=args.steps)
-    table = Table(title=f"env steps/s vs raw physics ({args.steps} steps each)")
-    for col in ("ID", "action mode", "env steps/s", "raw physics steps/s", "env / raw", "mode / joint_position"):
+    results = speed.run(args.env, args.modes, steps=args.steps, repeats=args.repeats)
+    table = Table(title=f"env steps/s vs raw physics (median of {args.repeats} x {args.steps} steps)")
+    for col in ("ID", "action mode", "env steps/s", "raw physics steps/s", "env / raw", "overhead µs/step", "mode / joint_position"):
         table.add_column(col, justify="right")
     by_key = {(r.task_id, r.action_mode): r for r in results}
     for r in results:
         jp = by_key.get((r.task_id, "joint_position"))
         rel = f"{r.env_steps_per_s / jp.env_steps_per_s:.2f}" if jp else "-"
         table.add_row(
-            r.task_id, r.action_mode, f"{r.env_steps_per_s:,.0f}", f"{r.raw_steps_per_s:,.0f}", f"{r.ratio_to_raw:.2f}", rel
+            r.task_id,
+            r.action_mode,
+            f"{r.env_steps_per_s:,.0f}",
+            f"{r.raw_steps_per_s:,.0f}",
+            f"{r.ratio_to_raw:.2f}",
+            f"{r.overhead_us:.0f}",
+            rel,
         )
     Console(width=args.width).print(table)
     if args.json:
@@ -97,6 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--env", type=_task_ids, help="comma-separated IDs (default: all)")
     p.add_argument("--modes", type=lambda s: s.split(","), help="comma-separated action modes (default: all)")
     p.add_argument("--steps", type=_positive_int, default=2000, help="steps per measurement")
+    p.add_argument("--repeats", type=_positive_int, default=3, help="measurements per figure (median)")
     p.add_argument("--json", help="also write the results to this JSON file")
     p.add_argument("--width", type=int, default=200)
     p.set_defaults(func=cmd_speed)

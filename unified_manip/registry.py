@@ -24,7 +24,8 @@ NAMESPACE = "UnifiedManip"
 
 def euclidean(achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
     """Goal distance along the last axis, in the goal's units."""
-    return np.linalg.norm(np.asarray(achieved_goal) - np.asarray(desired_goal), axis=-1)
+    diff = np.asarray(achieved_goal) - np.asarray(desired_goal)
+    return np.sqrt((diff * diff).sum(axis=-1))
 
 
 @dataclass(frozen=True)

@@ -31,8 +31,13 @@ class SpeedResult:
     def ratio_to_raw(self) -> float:
         return self.env_steps_per_s / self.raw_steps_per_s
 
+    @property
+    def overhead_us(self) -> float:
+        """Time per step spent outside the physics (control, observation, reward), µs."""
+        return 1e6 * (1.0 / self.env_steps_per_s - 1.0 / self.raw_steps_per_s)
+
     def as_dict(self) -> dict:
-        return {**asdict(self), "ratio_to_raw": self.ratio_to_raw}
+        return {**asdict(self), "ratio_to_raw": self.ratio_to_raw, "overhead_us": self.overhead_us}
 
 
 def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) -> SpeedResult:
@@ -73,8 +78,10 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
     return SpeedResult(task_id, action_mode, steps / total, steps / spent[0])
 
 
-def run(task_ids=None, modes=None, steps: int = 2000, progress: bool = True) -> list[SpeedResult]:
-    """Measure every requested ID x supported mode."""
+def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:
+    """Measure every requested ID x supported mode; each figure is the median of
+    ``repeats`` measurements, taken in rounds so that load spikes spread over modes."""
+    import statistics
     from tqdm import tqdm
 
     jobs = [
@@ -83,4 +90,18 @@ def run(task_ids=None, modes=None, steps: int = 2000, progress: bool = True) -> 
         for mode in TASKS[tid].action_modes
         if modes is None or mode in modes
     ]
-    return [measure(tid, mode, steps=steps) for tid, mode in tqdm(jobs, desc="speed", disable=not progress, unit="env")]
+    samples: dict[tuple[str, str], list[SpeedResult]] = {job: [] for job in jobs}
+    with tqdm(total=len(jobs) * repeats, desc="speed", disable=not progress, unit="run") as bar:
+        for _ in range(repeats):
+            for tid, mode in jobs:
+                samples[(tid, mode)].append(measure(tid, mode, steps=steps))
+                bar.update()
+    return [
+        SpeedResult(
+            tid,
+            mode,
+            statistics.median(r.env_steps_per_s for r in rs),
+            statistics.median(r.raw_steps_per_s for r in rs),
+        )
+        for (tid, mode), rs in samples.items()
+    ]
