@@ -385,7 +385,14 @@ Version history: v0 initial.
 
 
 def _register() -> None:
-    common = dict(family="arm4", action_modes=ACTION_MODES, goal_dim=3, distance_threshold=0.05, render_fps=50)
+    common = dict(
+        family="arm4",
+        action_modes=ACTION_MODES,
+        goal_dim=3,
+        distance_threshold=0.05,
+        render_fps=50,
+        scripted_min_success=0.9,
+    )
     register_task(
         TaskSpec(
             name="Arm4Reach",

@@ -46,6 +46,9 @@ class TaskSpec:
         goal_distance: Vectorised distance between goals, shape ``(..., g) -> (...)``.
         scripted_policy: Builds a scripted policy (a callable ``obs -> action``) for
             a given action mode, or ``None`` if the task has none.
+        scripted_min_success: The ``ee_delta`` success rate the scripted policy must
+            reach over 100 seeded episodes (asserted by the tests), or ``None`` if it
+            is only reported.
         version: The ``-vN`` suffix. Bump it on any behaviour change.
         render_fps: Frames per second of a rollout video.
     """
@@ -61,6 +64,7 @@ class TaskSpec:
     doc: str
     goal_distance: Callable[[np.ndarray, np.ndarray], np.ndarray] = euclidean
     scripted_policy: Callable[[str], Callable[[dict[str, np.ndarray]], np.ndarray]] | None = None
+    scripted_min_success: float | None = None
     version: int = 0
     render_fps: int = 25
 
