@@ -26,3 +26,14 @@ def test_no_test_can_skip_on_a_missing_package():
             continue
         text = path.read_text()
         assert "importorskip" not in text and "pytest.skip(" not in text, path.name
+
+
+def test_import_and_make_are_quiet():
+    """A user of ``import unified_manip`` sees no third-party import chatter."""
+    import subprocess
+    import sys
+
+    code = "import gymnasium as gym, unified_manip; [gym.make(t) for t in unified_manip.TASKS]"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "" and proc.stderr == ""

@@ -18,6 +18,10 @@ if "MUJOCO_GL" not in _os.environ and not (_os.environ.get("DISPLAY") or _os.env
 
 from importlib.metadata import PackageNotFoundError, version  # noqa: E402
 
+from ._quiet import silence_import_notices  # noqa: E402
+
+silence_import_notices()
+
 from .config import ACTION_MODES, REWARD_TYPES, EnvConfig
 from .registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task
 
