@@ -51,6 +51,11 @@ class TaskSpec:
             is only reported.
         version: The ``-vN`` suffix. Bump it on any behaviour change.
         render_fps: Frames per second of a rollout video.
+        stability_steps: How many random-action steps the stability test plays in
+            every action mode (CI time scales with it: lower it for slow simulators).
+        upstream_id: The Gymnasium ID of the env this task wraps (e.g.
+            ``"FetchPush-v4"``), so benchmarks can time the two side by side; ``None``
+            for tasks defined here.
     """
 
     name: str
@@ -67,6 +72,8 @@ class TaskSpec:
     scripted_min_success: float | None = None
     version: int = 0
     render_fps: int = 25
+    stability_steps: int = 10_000
+    upstream_id: str | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in TASK_KINDS:
@@ -74,6 +81,8 @@ class TaskSpec:
         unknown = [m for m in self.action_modes if m not in ACTION_MODES]
         if unknown:
             raise ValueError(f"{self.name}: unknown action modes {unknown}; expected from {ACTION_MODES}")
+        if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
+            raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
 
     @property
     def id(self) -> str:
