@@ -57,8 +57,8 @@ UNLIMITED_ROLL_JOINTS = ("robot0:upperarm_roll_joint", "robot0:forearm_roll_join
 #: and armature 1 kg m^2 (far more than the real Fetch), so the limits are above the
 #: real robot's efforts (33.8, 131.8, 76.9, 66.2, 29.4, 25.7, 7.4 N m) to let the
 #: arm move at about 1 rad/s against that damping.
-ARM_KP = np.array([1000.0, 1000.0, 1000.0, 1000.0, 500.0, 500.0, 300.0])
-ARM_KV = np.array([20.0, 20.0, 20.0, 20.0, 10.0, 10.0, 5.0])
+ARM_KP = np.array([3000.0, 3000.0, 3000.0, 3000.0, 1500.0, 1500.0, 1000.0])
+ARM_KV = np.array([50.0, 50.0, 50.0, 50.0, 25.0, 25.0, 20.0])
 ARM_TORQUE = np.array([150.0, 250.0, 150.0, 150.0, 80.0, 80.0, 60.0])
 #: Upstream's PickAndPlace finger actuators (position servos, kp 30000, ctrl 0-0.2 m).
 FINGER_KP, FINGER_CTRL_MAX, FINGER_OPEN = 30000.0, 0.2, 0.05
@@ -295,31 +295,35 @@ def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
 
 
 def _push(obs: dict[str, np.ndarray], speed: float, stop: float, slowdown: float, behind_by: float) -> np.ndarray:
-    """Go behind the object (seen from the goal), lower the gripper, push along the line."""
+    """Go above a point behind the object (seen from the goal), come down, push along
+    the line through the object and the goal, steering back onto it."""
     o = obs["observation"]
     grip, obj = o[OBS_GRIP], o[OBS_OBJ]
     to_goal = obs["desired_goal"] - obj
-    direction = to_goal[:2] / max(np.linalg.norm(to_goal[:2]), 1e-6)
-    rel = grip[:2] - obj[:2]
-    along = float(rel @ direction)  # negative: the gripper is behind the object
-    lateral = float(abs(rel[0] * direction[1] - rel[1] * direction[0]))
-    push_z = obj[2]
     remaining = float(np.linalg.norm(to_goal[:2]))
     if remaining < stop:
         return np.zeros(4, dtype=np.float32)
-    if along < -0.02 and lateral < 0.02 and grip[2] < obj[2] + 0.02:
+    direction = to_goal[:2] / max(remaining, 1e-6)
+    rel = grip[:2] - obj[:2]
+    along = float(rel @ direction)  # negative: the gripper is behind the object
+    lateral = float(abs(rel[0] * direction[1] - rel[1] * direction[0]))
+    push_z = obj[2]  # fingertips 6 mm above the table
+    behind = np.append(obj[:2] - direction * behind_by, push_z)
+    if along < -0.015 and lateral < 0.03 and grip[2] < obj[2] + 0.04:
         correction = (obj[:2] - along * direction) - grip[:2]
-        v = min(speed, slowdown * remaining)
+        # Push only as fast as the gripper is down at the object's height.
+        low = float(np.clip(1.0 - (grip[2] - push_z - 0.01) / 0.02, 0.0, 1.0))
+        v = min(speed, slowdown * remaining) * low
         move = np.append(direction * v + np.clip(correction * 20.0, -0.3, 0.3), (push_z - grip[2]) * 20.0)
         return np.append(np.clip(move, -1, 1), -1.0).astype(np.float32)
-    behind = np.append(obj[:2] - direction * behind_by, push_z)
-    if np.linalg.norm(grip[:2] - behind[:2]) > 0.01:
-        if grip[2] < obj[2] + 0.04 and np.linalg.norm(rel) < 0.08:  # rise clear first
-            return np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)
-        above = behind.copy()
-        above[2] = obj[2] + 0.06
-        return np.append(_toward(above - grip, 20.0), -1.0).astype(np.float32)
-    return np.append(_toward(behind - grip, 20.0), -1.0).astype(np.float32)
+    if along < -0.04 and grip[2] < obj[2] + 0.04:  # behind but off the line: realign low
+        return np.append(_toward(behind - grip, 10.0), -1.0).astype(np.float32)
+    if np.linalg.norm(grip[:2] - behind[:2]) < 0.02:  # above the spot: come down
+        return np.append(_toward(behind - grip, 10.0), -1.0).astype(np.float32)
+    if grip[2] < obj[2] + 0.045:  # rise clear of the object before moving across
+        return np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)
+    above = np.append(behind[:2], obj[2] + 0.06)
+    return np.append(_toward(above - grip, 10.0), -1.0).astype(np.float32)
 
 
 def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
@@ -359,7 +363,7 @@ _MODES = """Action modes (action in [-1, 1]; the last entry commands the fingers
     joint_delta     7 arm targets q + 0.05 a rad + gripper.
     joint_velocity  7 arm velocities, 1 rad/s per unit + gripper.
 The non-native modes run on a copy of the model without the mocap weld, with position
-servos (kp 1000, 1000, 1000, 1000, 500, 500, 300), gravity compensation on the arm and
+servos (kp 3000, 3000, 3000, 3000, 1500, 1500, 1000 N m/rad), gravity compensation on the arm and
 the base slides and torso frozen by joint equality constraints (see ``tasks/fetch.py``).
 In the joint modes the observation gains 14 entries: the 7 arm angles (rad, shoulder
 pan, shoulder lift, upper-arm roll, elbow flex, forearm roll, wrist flex, wrist roll)
