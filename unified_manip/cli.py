@@ -90,6 +90,59 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_train(args: argparse.Namespace) -> int:
+    from .train import TrainRequest, train
+
+    req = TrainRequest(
+        env=args.env,
+        action_mode=args.action_mode,
+        reward_type=args.reward_type,
+        algo=args.algo,
+        steps=args.steps,
+        seed=args.seed,
+        n_envs=args.n_envs,
+        run_dir=Path(args.run_dir) if args.run_dir else None,
+        overrides=tuple(args.set or ()),
+        env_kwargs=dict(args.env_kwarg or ()),
+    )
+    try:
+        train(req, argv=["unified-manip", *sys.argv[1:]], progress=not args.no_progress)
+    except KeyboardInterrupt:
+        return 130
+    return 0
+
+
+def cmd_eval(args: argparse.Namespace) -> int:
+    from .train import evaluate
+
+    result = evaluate(
+        Path(args.target),
+        args.episodes,
+        action_mode=args.action_mode,
+        reward_type=args.reward_type,
+        seed=args.seed,
+        video=Path(args.video) if args.video else None,
+    )
+    print(
+        f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
+        f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
+    )
+    if args.json:
+        Path(args.json).write_text(json.dumps(result.as_dict(), indent=2))
+    if args.video:
+        print(f"wrote {args.video}")
+    return 0
+
+
+def _env_kwarg(value: str) -> tuple[str, object]:
+    import yaml
+
+    if "=" not in value:
+        raise argparse.ArgumentTypeError(f"expected key=value, got {value!r}")
+    key, raw = value.split("=", 1)
+    return key, yaml.safe_load(raw)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="unified-manip", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -107,6 +160,33 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", help="also write the results to this JSON file")
     p.add_argument("--width", type=int, default=200)
     p.set_defaults(func=cmd_speed)
+
+    from .config import ACTION_MODES
+    from .hyperparams import ALGOS
+
+    p = sub.add_parser("train", help="train a Stable-Baselines3 baseline on one task")
+    p.add_argument("--env", required=True, choices=list(TASKS), metavar="ID", help="registered task ID")
+    p.add_argument("--action-mode", default="native", choices=ACTION_MODES)
+    p.add_argument("--reward-type", default="sparse", choices=REWARD_TYPES)
+    p.add_argument("--algo", required=True, choices=list(ALGOS))
+    p.add_argument("--steps", type=_positive_int, required=True, help="total environment steps")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--n-envs", type=_positive_int, default=1, help="parallel envs (SubprocVecEnv when > 1)")
+    p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
+    p.add_argument("--env-kwarg", action="append", type=_env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_train)
+
+    p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
+    p.add_argument("target", help="run directory, or a model .zip inside one")
+    p.add_argument("--episodes", type=_positive_int, default=50)
+    p.add_argument("--action-mode", choices=ACTION_MODES, help="default: the run's own (a different one is an error)")
+    p.add_argument("--reward-type", choices=REWARD_TYPES, help="default: the run's own")
+    p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
+    p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
+    p.add_argument("--json", help="also write the result to this JSON file")
+    p.set_defaults(func=cmd_eval)
 
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
     p.add_argument("--out", default="demo.png", help="output PNG")
@@ -129,8 +209,15 @@ def _positive_int(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
-    return args.func(args)
+    from .hyperparams import HyperparameterError
+    from .train import TrainError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (TrainError, HyperparameterError) as err:
+        parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,194 @@
+"""Hyperparameters: ``baselines/<algo>.yaml`` files, keyed by task ID, with overrides.
+
+Each file maps task IDs (and ``default``) to a flat mapping of hyperparameters. YAML
+anchors and merge keys (``<<: *defaults``) share values; every value is a YAML literal,
+nothing is ever evaluated. An entry is the ``default`` entry updated by the task's own.
+
+Keys are either keyword arguments of the algorithm's constructor (checked against the
+Stable-Baselines3 signature) or one of :data:`RUN_KEYS`. ``--set key=value`` sets any
+such key (``policy_kwargs.net_arch=[64,64]`` reaches into a mapping the entry already
+has); the value is parsed as a YAML literal and must have the type the algorithm's
+signature (or, inside a mapping, the existing value) allows.
+"""
+
+from __future__ import annotations
+
+import copy
+import inspect
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+#: Settings of the run rather than of the algorithm.
+RUN_KEYS: dict[str, type] = {
+    "eval_freq": int,  # env steps between evaluations (EvalCallback)
+    "n_eval_episodes": int,  # episodes per evaluation
+    "checkpoint_freq": int,  # env steps between resumable checkpoints
+    "action_noise_std": float,  # TD3: std of Gaussian exploration noise, in action units
+}
+
+#: Where the YAML files live: the repository's ``baselines/`` (an editable install or a
+#: source checkout); ``UNIFIED_MANIP_BASELINES`` points elsewhere.
+DEFAULT_DIR = Path(os.environ.get("UNIFIED_MANIP_BASELINES", Path(__file__).resolve().parents[1] / "baselines"))
+
+
+@dataclass(frozen=True)
+class Algo:
+    """One baseline: an SB3 class, with or without hindsight relabelling."""
+
+    name: str
+    module: str
+    cls_name: str
+    her: bool = False
+    off_policy: bool = True
+
+    def cls(self):
+        import importlib
+
+        return getattr(importlib.import_module(self.module), self.cls_name)
+
+
+ALGOS: dict[str, Algo] = {
+    a.name: a
+    for a in (
+        Algo("ppo", "stable_baselines3", "PPO", off_policy=False),
+        Algo("sac", "stable_baselines3", "SAC"),
+        Algo("td3", "stable_baselines3", "TD3"),
+        Algo("sac_her", "stable_baselines3", "SAC", her=True),
+        Algo("tqc_her", "sb3_contrib", "TQC", her=True),
+    )
+}
+
+
+class HyperparameterError(ValueError):
+    """A hyperparameter file or override is invalid."""
+
+
+def get_algo(name: str) -> Algo:
+    try:
+        return ALGOS[name]
+    except KeyError:
+        raise HyperparameterError(f"unknown algorithm {name!r}; expected one of {', '.join(ALGOS)}") from None
+
+
+def _allowed_types(annotation: Any) -> tuple[type, ...] | None:
+    """Python types a YAML literal may have for a constructor annotation (None: any)."""
+    text = annotation if isinstance(annotation, str) else getattr(annotation, "__name__", str(annotation))
+    text = str(text)
+    found = []
+    for token, typ in (("float", float), ("int", int), ("str", str), ("bool", bool), ("dict", dict)):
+        if token in text:
+            found.append(typ)
+    if "tuple" in text or "list" in text:
+        found.append(list)
+    if "Optional" in text or "None" in text:
+        found.append(type(None))
+    return tuple(found) or None
+
+
+def _signature_types(algo: Algo) -> dict[str, tuple[type, ...] | None]:
+    params = inspect.signature(algo.cls().__init__).parameters
+    # Objects (not YAML literals) and the settings the CLI owns.
+    skip = {
+        "self", "env", "replay_buffer_class", "action_noise", "rollout_buffer_class", "rollout_buffer_kwargs",
+        "_init_setup_model", "device", "seed", "tensorboard_log", "verbose",
+    }
+    return {k: _allowed_types(p.annotation) for k, p in params.items() if k not in skip}
+
+
+def _type_ok(value: Any, allowed: tuple[type, ...] | None) -> bool:
+    if allowed is None:
+        return True
+    if isinstance(value, bool):
+        return bool in allowed
+    if isinstance(value, int) and float in allowed:
+        return True
+    return isinstance(value, allowed)
+
+
+def _type_names(allowed: tuple[type, ...]) -> str:
+    return " or ".join("null" if t is type(None) else t.__name__ for t in allowed)
+
+
+def valid_keys(algo: Algo) -> dict[str, tuple[type, ...] | None]:
+    """Every key a hyperparameter entry of ``algo`` may hold, with its allowed types."""
+    keys = dict(_signature_types(algo))
+    keys.update({k: (t,) if t is not float else (float, int) for k, t in RUN_KEYS.items()})
+    return keys
+
+
+def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, Any]]:
+    path = Path(directory or DEFAULT_DIR) / f"{algo.name}.yaml"
+    if not path.is_file():
+        raise HyperparameterError(f"hyperparameter file {path} not found")
+    with path.open() as f:
+        data = yaml.safe_load(f)
+    if not isinstance(data, dict) or "default" not in data:
+        raise HyperparameterError(f"{path}: expected a mapping of task IDs with a 'default' entry")
+    return data
+
+
+def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), directory: Path | None = None) -> dict[str, Any]:
+    """The hyperparameters for ``task_id``: default entry, task entry, then overrides."""
+    algo = get_algo(algo_name)
+    data = load_file(algo, directory)
+    params = copy.deepcopy(data["default"])
+    params.update(copy.deepcopy(data.get(task_id) or {}))
+    keys = valid_keys(algo)
+    for key, value in params.items():
+        if key not in keys:
+            raise HyperparameterError(
+                f"{algo.name}.yaml: unknown hyperparameter {key!r} for {algo.cls_name}; expected one of {', '.join(sorted(keys))}"
+            )
+        if not _type_ok(value, keys[key]):
+            raise HyperparameterError(
+                f"{algo.name}.yaml: {key} must be {_type_names(keys[key])}, got {value!r}"
+            )
+    for item in overrides:
+        apply_override(params, item, keys)
+    return params
+
+
+def apply_override(params: dict[str, Any], item: str, keys: dict[str, tuple[type, ...] | None]) -> None:
+    """Apply one ``key=value`` (``a.b=value`` for nested keys) to ``params`` in place."""
+    if "=" not in item or item.startswith("="):
+        raise HyperparameterError(f"malformed --set {item!r}; expected key=value, e.g. learning_rate=0.0003")
+    key, raw = item.split("=", 1)
+    try:
+        value = yaml.safe_load(raw) if raw.strip() else None
+    except yaml.YAMLError:
+        raise HyperparameterError(f"malformed --set {item!r}: {raw!r} is not a YAML literal") from None
+    if isinstance(value, str):  # PyYAML reads 3e-4 (no dot) as a string
+        try:
+            value = float(value)
+        except ValueError:
+            pass
+    path = key.strip().split(".")
+    top = path[0]
+    if top not in keys:
+        raise HyperparameterError(
+            f"unknown hyperparameter {top!r} in --set {item!r}; expected one of {', '.join(sorted(keys))}"
+        )
+    if len(path) == 1:
+        allowed = keys.get(top)
+        if not _type_ok(value, allowed):
+            raise HyperparameterError(f"--set {item!r}: {top} must be {_type_names(allowed)}, got {type(value).__name__}")
+        params[top] = value
+        return
+    target = params.get(top)
+    for part in path[1:-1]:
+        if not isinstance(target, dict) or part not in target:
+            raise HyperparameterError(f"unknown hyperparameter {key!r} in --set {item!r}")
+        target = target[part]
+    leaf = path[-1]
+    if not isinstance(target, dict) or leaf not in target:
+        known = ", ".join(f"{'.'.join(path[:-1])}.{k}" for k in target) if isinstance(target, dict) else "none"
+        raise HyperparameterError(f"unknown hyperparameter {key!r} in --set {item!r}; expected one of {known}")
+    old = target[leaf]
+    allowed = (float, int) if isinstance(old, float) else (type(old),)
+    if old is not None and not _type_ok(value, allowed):
+        raise HyperparameterError(f"--set {item!r}: {key} must be {_type_names(allowed)}, got {type(value).__name__}")
+    target[leaf] = value

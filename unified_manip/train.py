@@ -1,0 +1,482 @@
+"""``unified-manip train`` and ``eval``: Stable-Baselines3 baselines on any registered ID.
+
+A run directory holds everything about one run::
+
+    config.yaml          resolved hyperparameters, env kwargs, package versions, command
+    status.json          {"state": "running" | "finished", "num_timesteps": N, ...}
+    monitor/segK/        Monitor CSVs (with is_success) of the K-th start or resume
+    tb/                  TensorBoard events
+    eval/evaluations.npz periodic evaluation (EvalCallback): returns and successes
+    best/best_model.zip  the best evaluated model
+    checkpoints/         the latest resumable checkpoint (model + replay buffer)
+    final_model.zip      written when the run finishes
+    replay_buffer.pkl    off-policy algorithms, written when the run finishes
+
+Running the same command on an unfinished run directory resumes from its latest
+checkpoint (step count, model and replay buffer); a finished one is left alone. Every
+file is written to a temporary name and renamed, so a kill never leaves a half-written
+file that is later read as whole.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import shlex
+import signal
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from .config import REWARD_TYPES
+from .hyperparams import ALGOS, RUN_KEYS, get_algo, resolve
+from .registry import TASKS, get_task
+
+STATUS = "status.json"
+CONFIG = "config.yaml"
+
+
+class TrainError(ValueError):
+    """Invalid training or evaluation request (reported as a one-line error, exit 2)."""
+
+
+# ---------------------------------------------------------------------- request
+@dataclass(frozen=True)
+class TrainRequest:
+    """What ``unified-manip train`` was asked to do.
+
+    Attributes:
+        env: Registered task ID.
+        action_mode: One of the task's action modes.
+        reward_type: ``sparse``, ``dense`` or ``dense_penalized``.
+        algo: ``ppo``, ``sac``, ``td3``, ``sac_her`` or ``tqc_her``.
+        steps: Total environment steps (over all envs).
+        seed: Seed of the model and of the envs (env k gets ``seed + k``).
+        n_envs: Parallel envs; more than one runs them in a ``SubprocVecEnv``.
+        run_dir: Where the run lives.
+        overrides: ``key=value`` hyperparameter overrides.
+        env_kwargs: Extra env keyword arguments (e.g. ``robot``).
+    """
+
+    env: str
+    action_mode: str
+    reward_type: str
+    algo: str
+    steps: int
+    seed: int = 0
+    n_envs: int = 1
+    run_dir: Path | None = None
+    overrides: tuple[str, ...] = ()
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.env not in TASKS:
+            raise TrainError(f"unknown task {self.env!r}; expected one of {', '.join(TASKS)}")
+        spec = get_task(self.env)
+        if self.action_mode not in spec.action_modes:
+            raise TrainError(
+                f"action mode {self.action_mode!r} is not supported by {self.env}; "
+                f"expected one of {', '.join(spec.action_modes)}"
+            )
+        if self.reward_type not in REWARD_TYPES:
+            raise TrainError(f"unknown reward type {self.reward_type!r}; expected one of {', '.join(REWARD_TYPES)}")
+        if self.algo not in ALGOS:
+            raise TrainError(f"unknown algorithm {self.algo!r}; expected one of {', '.join(ALGOS)}")
+        for name in ("steps", "n_envs"):
+            if getattr(self, name) <= 0:
+                raise TrainError(f"--{name.replace('_', '-')} must be positive, got {getattr(self, name)}")
+
+    @property
+    def directory(self) -> Path:
+        if self.run_dir is not None:
+            return Path(self.run_dir)
+        name = self.env.split("/")[-1]
+        return Path("runs") / f"{name}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+
+    def env_config(self) -> dict[str, Any]:
+        return {"action_mode": self.action_mode, "reward_type": self.reward_type, **self.env_kwargs}
+
+
+# ---------------------------------------------------------------------- small I/O helpers
+def write_atomic(path: Path, text: str) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def read_status(run_dir: Path) -> dict[str, Any] | None:
+    path = Path(run_dir) / STATUS
+    if not path.is_file():
+        return None
+    return json.loads(path.read_text())
+
+
+def write_status(run_dir: Path, **status: Any) -> None:
+    write_atomic(Path(run_dir) / STATUS, json.dumps({**status, "updated": time.time()}, indent=2))
+
+
+def package_versions() -> dict[str, str]:
+    from importlib.metadata import version
+
+    names = ("unified_manip", "mujoco", "gymnasium", "gymnasium-robotics", "robosuite", "stable-baselines3", "sb3-contrib", "torch", "numpy", "mink")
+    out = {"python": platform.python_version()}
+    for n in names:
+        try:
+            out[n] = version(n)
+        except Exception:  # pragma: no cover - reported, not fatal
+            out[n] = "not installed"
+    return out
+
+
+# ---------------------------------------------------------------------- env construction
+def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None):
+    """Monitor-wrapped envs (``is_success`` logged); a SubprocVecEnv when ``n_envs > 1``."""
+    from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    return sb3_make_vec_env(
+        f"unified_manip:{env_id}",  # workers import unified_manip, which registers the IDs
+        n_envs=n_envs,
+        seed=seed,
+        env_kwargs=env_kwargs,
+        monitor_dir=str(monitor_dir) if monitor_dir else None,
+        monitor_kwargs={"info_keywords": ("is_success",)},
+        vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
+    )
+
+
+def _model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> dict[str, Any]:
+    algo = get_algo(algo_name)
+    kwargs = {k: v for k, v in params.items() if k not in RUN_KEYS}
+    if algo.her:
+        from stable_baselines3 import HerReplayBuffer
+
+        kwargs["replay_buffer_class"] = HerReplayBuffer
+    if "action_noise_std" in params:
+        from stable_baselines3.common.noise import NormalActionNoise
+
+        std = float(params["action_noise_std"])
+        kwargs["action_noise"] = NormalActionNoise(np.zeros(action_dim), std * np.ones(action_dim))
+    return kwargs
+
+
+# ---------------------------------------------------------------------- callbacks
+def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env, algo_name: str, progress: bool):
+    from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
+
+    algo = get_algo(algo_name)
+
+    class SuccessRate(BaseCallback):
+        """SB3 logs rollout/success_rate only for off-policy algorithms; log it for all."""
+
+        def _on_rollout_end(self) -> None:
+            if not algo.off_policy and len(self.model.ep_success_buffer) > 0:
+                self.logger.record("rollout/success_rate", float(np.mean(self.model.ep_success_buffer)))
+
+        def _on_step(self) -> bool:
+            return True
+
+    class Checkpoint(BaseCallback):
+        """Saves a resumable checkpoint every ``freq`` env steps (atomically)."""
+
+        def __init__(self, freq: int):
+            super().__init__()
+            self.freq = max(int(freq), 1)
+            self.last = 0
+
+        def _on_training_start(self) -> None:
+            self.last = self.num_timesteps
+
+        def _on_step(self) -> bool:
+            if self.num_timesteps - self.last >= self.freq:
+                save_checkpoint(self.model, run_dir, algo.off_policy)
+                self.last = self.num_timesteps
+            return True
+
+    class Progress(BaseCallback):
+        """A bar with steps, steps/s, ETA and the latest success rate."""
+
+        def _on_training_start(self) -> None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=model_total, initial=self.num_timesteps, unit="step", dynamic_ncols=True, disable=not progress)
+
+        def _on_step(self) -> bool:
+            self.bar.update(self.num_timesteps - self.bar.n)
+            buf = self.model.ep_success_buffer
+            if len(buf) and self.n_calls % 50 == 0:
+                self.bar.set_postfix(success=f"{np.mean(buf):.2f}", refresh=False)
+            return True
+
+        def _on_training_end(self) -> None:
+            self.bar.close()
+
+    n_envs = eval_env.num_envs if eval_env is not None else 1
+    evaluation = EvalCallback(
+        eval_env,
+        eval_freq=max(int(params.get("eval_freq", 10_000)) // max(n_envs, 1), 1),
+        n_eval_episodes=int(params.get("n_eval_episodes", 20)),
+        log_path=str(run_dir / "eval"),
+        best_model_save_path=str(run_dir / "best"),
+        deterministic=True,
+        verbose=0,
+    )
+    return CallbackList([SuccessRate(), Checkpoint(params.get("checkpoint_freq", 10_000)), evaluation, Progress()])
+
+
+def save_checkpoint(model, run_dir: Path, off_policy: bool) -> None:
+    """Write model (+ replay buffer) under temporary names, then publish them with one
+    atomic rename of ``checkpoints/latest.json``."""
+    ckpt = Path(run_dir) / "checkpoints"
+    ckpt.mkdir(parents=True, exist_ok=True)
+    step = int(model.num_timesteps)
+    model_path = ckpt / f"model_{step}.zip"
+    tmp = ckpt / f"model_{step}.tmp.zip"
+    model.save(tmp)
+    os.replace(tmp, model_path)
+    entry = {"num_timesteps": step, "model": model_path.name}
+    if off_policy:
+        buf_path = ckpt / f"replay_buffer_{step}.pkl"
+        tmp = ckpt / f"replay_buffer_{step}.tmp.pkl"
+        model.save_replay_buffer(tmp)
+        os.replace(tmp, buf_path)
+        entry["replay_buffer"] = buf_path.name
+    previous = latest_checkpoint(run_dir)
+    write_atomic(ckpt / "latest.json", json.dumps(entry))
+    if previous:  # keep only the newest checkpoint
+        for key in ("model", "replay_buffer"):
+            if key in previous and previous[key] != entry.get(key):
+                (ckpt / previous[key]).unlink(missing_ok=True)
+
+
+def latest_checkpoint(run_dir: Path) -> dict[str, Any] | None:
+    path = Path(run_dir) / "checkpoints" / "latest.json"
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+# ---------------------------------------------------------------------- train
+def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] | None) -> dict[str, Any]:
+    return {
+        "env": req.env,
+        "env_kwargs": req.env_config(),
+        "algo": req.algo,
+        "steps": req.steps,
+        "seed": req.seed,
+        "n_envs": req.n_envs,
+        "hyperparameters": params,
+        "overrides": list(req.overrides),
+        "versions": package_versions(),
+        "command": shlex.join(argv) if argv else None,
+    }
+
+
+_COMPARED = ("env", "env_kwargs", "algo", "steps", "seed", "n_envs", "hyperparameters")
+
+
+def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print) -> dict[str, Any]:
+    """Train (or resume, or skip if finished) the run ``req`` describes.
+
+    Returns the final status dict. Raises :class:`TrainError` for bad requests and
+    :class:`KeyboardInterrupt` after checkpointing when interrupted.
+    """
+    import torch
+
+    algo = get_algo(req.algo)
+    params = resolve(req.algo, req.env, req.overrides)
+    run_dir = req.directory
+    config = _config_document(req, params, argv)
+
+    status = read_status(run_dir)
+    if (run_dir / CONFIG).is_file():
+        stored = yaml.safe_load((run_dir / CONFIG).read_text())
+        diff = [k for k in _COMPARED if stored.get(k) != config[k]]
+        if diff:
+            raise TrainError(
+                f"{run_dir} holds a different run (it differs in {', '.join(diff)}); choose another --run-dir"
+            )
+        if status and status.get("state") == "finished":
+            log(f"{run_dir}: already finished at {status['num_timesteps']} steps; nothing to do")
+            return status
+    elif run_dir.exists() and any(run_dir.iterdir()):
+        raise TrainError(f"{run_dir} exists and is not a unified-manip run directory; choose another --run-dir")
+    run_dir.mkdir(parents=True, exist_ok=True)
+    if not (run_dir / CONFIG).is_file():
+        write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
+
+    torch.set_num_threads(max(1, min(2, os.cpu_count() or 1)))
+    segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
+    env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}")
+    eval_env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+    cls = algo.cls()
+    ckpt = latest_checkpoint(run_dir)
+    started = time.time()
+    elapsed_before = float((status or {}).get("wall_time_s", 0.0))
+    try:
+        if ckpt:
+            model = cls.load(run_dir / "checkpoints" / ckpt["model"], env=env, device="cpu")
+            if "replay_buffer" in ckpt:
+                model.load_replay_buffer(run_dir / "checkpoints" / ckpt["replay_buffer"])
+            log(f"{run_dir}: resuming from step {model.num_timesteps} of {req.steps}")
+        else:
+            if status is not None:
+                log(f"{run_dir}: unfinished run without a checkpoint; starting again from step 0")
+            model = cls(env=env, seed=req.seed, device="cpu", tensorboard_log=str(run_dir / "tb"), verbose=0,
+                        **_model_kwargs(req.algo, params, env.action_space.shape[0]))
+        write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
+        remaining = req.steps - model.num_timesteps
+        callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress)
+        previous_handler = signal.signal(signal.SIGTERM, _raise_interrupt)
+        try:
+            if remaining > 0:
+                model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
+        except KeyboardInterrupt:
+            save_checkpoint(model, run_dir, algo.off_policy)
+            write_status(
+                run_dir,
+                state="running",
+                num_timesteps=int(model.num_timesteps),
+                wall_time_s=elapsed_before + time.time() - started,
+            )
+            log(f"{run_dir}: interrupted at step {model.num_timesteps}; run the same command again to resume")
+            raise
+        finally:
+            signal.signal(signal.SIGTERM, previous_handler)
+        tmp = run_dir / "final_model.tmp.zip"
+        model.save(tmp)
+        os.replace(tmp, run_dir / "final_model.zip")
+        if algo.off_policy:
+            tmp = run_dir / "replay_buffer.tmp.pkl"
+            model.save_replay_buffer(tmp)
+            os.replace(tmp, run_dir / "replay_buffer.pkl")
+        final = {
+            "state": "finished",
+            "num_timesteps": int(model.num_timesteps),
+            "wall_time_s": elapsed_before + time.time() - started,
+        }
+        write_status(run_dir, **final)
+        # The final files supersede the checkpoint (a replay buffer can be large).
+        import shutil
+
+        shutil.rmtree(run_dir / "checkpoints", ignore_errors=True)
+        log(f"{run_dir}: finished {model.num_timesteps} steps")
+        return read_status(run_dir)
+    finally:
+        env.close()
+        eval_env.close()
+
+
+def _raise_interrupt(signum, frame):  # pragma: no cover - exercised by the kill test
+    raise KeyboardInterrupt
+
+
+# ---------------------------------------------------------------------- eval
+@dataclass(frozen=True)
+class EvalResult:
+    episodes: int
+    successes: int
+    success_rate: float
+    ci_low: float
+    ci_high: float
+    mean_return: float
+    std_return: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def evaluate(
+    target: Path,
+    episodes: int,
+    action_mode: str | None = None,
+    reward_type: str | None = None,
+    seed: int = 123,
+    video: Path | None = None,
+    video_episodes: int = 2,
+    deterministic: bool = True,
+) -> EvalResult:
+    """Evaluate a run directory (its best model if any, else its final one) or a model
+    zip inside a run directory. The env defaults to the run's own settings; a model
+    cannot be evaluated in an action mode it was not trained in."""
+    import gymnasium as gym
+    from scipy.stats import binomtest
+
+    if episodes <= 0:
+        raise TrainError(f"--episodes must be positive, got {episodes}")
+    if video is not None and Path(video).suffix.lower() not in (".mp4", ".gif"):
+        raise TrainError(f"unsupported video format {Path(video).suffix!r}; expected .mp4 or .gif")
+    target = Path(target)
+    if not target.exists():
+        raise TrainError(f"{target} does not exist; expected a run directory or a model .zip inside one")
+    run_dir = target if target.is_dir() else target.parent
+    while run_dir != run_dir.parent and not (run_dir / CONFIG).is_file():
+        run_dir = run_dir.parent
+    if not (run_dir / CONFIG).is_file():
+        raise TrainError(f"{target} is not inside a unified-manip run directory (no {CONFIG} found)")
+    config = yaml.safe_load((run_dir / CONFIG).read_text())
+    env_kwargs = dict(config["env_kwargs"])
+    if action_mode is not None and action_mode != env_kwargs["action_mode"]:
+        raise TrainError(
+            f"the model was trained with action_mode {env_kwargs['action_mode']!r}; it cannot be evaluated "
+            f"with action_mode {action_mode!r} (the actions mean different things)"
+        )
+    if reward_type is not None:
+        if reward_type not in REWARD_TYPES:
+            raise TrainError(f"unknown reward type {reward_type!r}; expected one of {', '.join(REWARD_TYPES)}")
+        env_kwargs["reward_type"] = reward_type
+    if target.is_file():
+        model_path = target
+    else:
+        candidates = [run_dir / "best" / "best_model.zip", run_dir / "final_model.zip"]
+        ckpt = latest_checkpoint(run_dir)
+        if ckpt:
+            candidates.append(run_dir / "checkpoints" / ckpt["model"])
+        model_path = next((p for p in candidates if p.is_file()), None)
+        if model_path is None:
+            raise TrainError(f"{run_dir} has no model yet (no best, final or checkpoint model)")
+    cls = get_algo(config["algo"]).cls()
+    render = {"render_mode": "rgb_array", "render_width": 320, "render_height": 320} if video else {}
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    env = gym.make(config["env"], **env_kwargs, **render)
+    # HER models need an env to load; give them one over the same instance.
+    model = cls.load(model_path, env=DummyVecEnv([lambda: env]), device="cpu")
+    returns, successes, frames = [], 0, []
+    for ep in range(episodes):
+        obs, info = env.reset(seed=seed + ep)
+        done, total = False, 0.0
+        if video and ep < video_episodes:
+            frames.append(env.render())
+        while not done:
+            action, _ = model.predict(obs, deterministic=deterministic)
+            obs, reward, terminated, truncated, info = env.step(action)
+            total += reward
+            done = terminated or truncated
+            if video and ep < video_episodes:
+                frames.append(env.render())
+        returns.append(total)
+        successes += int(info.get("is_success", 0.0) > 0.5)
+    env.close()
+    if video:
+        write_video(Path(video), frames, fps=get_task(config["env"]).render_fps)
+    ci = binomtest(successes, episodes).proportion_ci(confidence_level=0.95, method="wilson")
+    return EvalResult(episodes, successes, successes / episodes, float(ci.low), float(ci.high), float(np.mean(returns)), float(np.std(returns)))
+
+
+def write_video(path: Path, frames: list[np.ndarray], fps: int) -> None:
+    """MP4 (via imageio-ffmpeg) or GIF, chosen by the file suffix."""
+    import imageio.v3 as iio
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    suffix = path.suffix.lower()
+    if suffix == ".gif":
+        iio.imwrite(path, np.stack(frames), duration=1000 / fps, loop=0)
+    elif suffix == ".mp4":
+        iio.imwrite(path, np.stack(frames), fps=fps, codec="libx264", macro_block_size=1)
+    else:
+        raise TrainError(f"unsupported video format {path.suffix!r}; expected .mp4 or .gif")
