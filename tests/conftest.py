@@ -17,6 +17,12 @@ ID_MODES = [(tid, mode) for tid, spec in unified_manip.TASKS.items() for mode in
 ID_MODE_REWARDS = [(tid, mode, r) for tid, mode in ID_MODES for r in unified_manip.REWARD_TYPES]
 
 
+def smoke_mode(task_id: str) -> str:
+    """The mode the single-mode smoke tests use: ee_delta where the task has it, else native."""
+    modes = unified_manip.TASKS[task_id].action_modes
+    return next(m for m in ("ee_delta", "native") if m in modes)
+
+
 def make(task_id: str, action_mode: str = "native", reward_type: str = "sparse", **kwargs) -> gym.Env:
     return gym.make(task_id, action_mode=action_mode, reward_type=reward_type, **kwargs)
 

@@ -13,7 +13,7 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
-from conftest import ALL_IDS, ID_MODES, make, random_actions, rollout
+from conftest import ALL_IDS, ID_MODES, make, random_actions, rollout, smoke_mode
 from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
@@ -194,7 +194,10 @@ def test_subproc_vec_env_of_two(task_id):
     from stable_baselines3.common.vec_env import SubprocVecEnv
 
     # "module:ID" makes each worker import unified_manip, which registers the IDs.
-    vec = make_vec_env(f"unified_manip:{task_id}", n_envs=2, seed=0, vec_env_cls=SubprocVecEnv, env_kwargs={"action_mode": "ee_delta"})
+    vec = make_vec_env(
+        f"unified_manip:{task_id}", n_envs=2, seed=0, vec_env_cls=SubprocVecEnv,
+        env_kwargs={"action_mode": smoke_mode(task_id)},
+    )
     try:
         obs = vec.reset()
         assert obs["observation"].shape[0] == 2
@@ -212,7 +215,7 @@ def test_subproc_vec_env_of_two(task_id):
 # ---------------------------------------------------------------------- rendering
 @pytest.mark.parametrize("task_id", ALL_IDS)
 def test_render_rgb_array_headless(task_id):
-    env = make(task_id, "ee_delta", render_mode="rgb_array", render_width=160, render_height=120)
+    env = make(task_id, smoke_mode(task_id), render_mode="rgb_array", render_width=160, render_height=120)
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
@@ -295,11 +298,13 @@ def test_diverged_physics_truncates_with_flag():
 
 
 @pytest.mark.parametrize("task_id,mode", ID_MODES, ids=lambda p: str(p).replace("UnifiedManip/", ""))
-def test_ten_thousand_random_steps_stay_stable(task_id, mode):
+def test_random_steps_stay_stable(task_id, mode):
+    """``TaskSpec.stability_steps`` random steps (10,000 unless the task sets fewer)."""
     env = make(task_id, mode, max_episode_steps=200)
     env.reset(seed=0)
     rng = np.random.default_rng(0)
-    actions = rng.uniform(-1, 1, size=(10_000,) + env.action_space.shape).astype(np.float32)
+    steps = unified_manip.TASKS[task_id].stability_steps
+    actions = rng.uniform(-1, 1, size=(steps,) + env.action_space.shape).astype(np.float32)
     unstable = 0
     for a in actions:
         obs, _, terminated, truncated, info = env.step(a)
