@@ -151,6 +151,45 @@ class ArmRig:
         self.data.ctrl[self.gripper_ids] = self.gripper_closed + (command + 1.0) * 0.5 * self.gripper_span
 
 
+@dataclass(frozen=True)
+class IKJoints:
+    """The joints and site :class:`MinkIK` works on, for models whose arm is not
+    driven through :class:`ArmRig` (e.g. a simulator with its own joint controllers).
+
+    Attributes:
+        joint_names: The active joints.
+        qpos_adr: Their ``qpos`` addresses.
+        dof_adr: Their ``qvel`` addresses.
+        lower: Lower range ends, rad.
+        upper: Upper range ends, rad.
+        site_name: The IK site.
+    """
+
+    joint_names: tuple[str, ...]
+    qpos_adr: np.ndarray
+    dof_adr: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    site_name: str
+
+    @property
+    def n(self) -> int:
+        return len(self.joint_names)
+
+    @classmethod
+    def from_model(
+        cls, model: mujoco.MjModel, joints, site: str, unlimited_range: tuple[float, float]
+    ) -> "IKJoints":
+        """Read addresses and ranges from ``model``; joints without limits get ``unlimited_range``."""
+        jids = np.array([model.joint(j).id for j in joints])
+        limited = model.jnt_limited[jids].astype(bool)
+        lower = np.where(limited, model.jnt_range[jids, 0], unlimited_range[0])
+        upper = np.where(limited, model.jnt_range[jids, 1], unlimited_range[1])
+        return cls(
+            tuple(joints), model.jnt_qposadr[jids].copy(), model.jnt_dofadr[jids].copy(), lower, upper, site
+        )
+
+
 class JointControl:
     """``joint_torque``, ``joint_position``, ``joint_delta`` or ``joint_velocity``.
 
@@ -252,7 +291,8 @@ class MinkIK:
 
     Args:
         model: The MuJoCo model.
-        rig: Supplies the active joints, their ranges and the IK site.
+        rig: Supplies the active joints, their ranges and the IK site (an
+            :class:`ArmRig` or an :class:`IKJoints`).
         orientation_cost: Weight of the orientation error relative to position
             (0 ignores orientation).
         max_joint_step: Largest joint change per call, rad.
@@ -264,7 +304,7 @@ class MinkIK:
     def __init__(
         self,
         model: mujoco.MjModel,
-        rig: ArmRig,
+        rig: ArmRig | IKJoints,
         orientation_cost: float = 0.1,
         max_joint_step: float = 0.5,
         iterations: int = 2,

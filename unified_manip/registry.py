@@ -47,8 +47,10 @@ class TaskSpec:
         scripted_policy: Builds a scripted policy (a callable ``obs -> action``) for
             a given action mode, or ``None`` if the task has none.
         scripted_min_success: The ``ee_delta`` success rate the scripted policy must
-            reach over 100 seeded episodes (asserted by the tests), or ``None`` if it
-            is only reported.
+            reach over ``scripted_episodes`` seeded episodes (asserted by the tests),
+            or ``None`` if it is only reported.
+        scripted_episodes: How many seeded episodes that success rate is measured
+            over (lower it for slow simulators).
         version: The ``-vN`` suffix. Bump it on any behaviour change.
         render_fps: Frames per second of a rollout video.
         stability_steps: How many random-action steps the stability test plays in
@@ -70,6 +72,7 @@ class TaskSpec:
     goal_distance: Callable[[np.ndarray, np.ndarray], np.ndarray] = euclidean
     scripted_policy: Callable[[str], Callable[[dict[str, np.ndarray]], np.ndarray]] | None = None
     scripted_min_success: float | None = None
+    scripted_episodes: int = 100
     version: int = 0
     render_fps: int = 25
     stability_steps: int = 10_000
