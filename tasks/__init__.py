@@ -8,3 +8,4 @@ here that defines a :class:`unified_manip.backend.Backend` and calls
 from . import arm4  # noqa: F401
 from . import fetch  # noqa: F401
 from . import shadow_hand  # noqa: F401
+from . import robosuite_tasks  # noqa: F401

@@ -1,0 +1,187 @@
+"""robosuite family: parity with robosuite.make, seeding, robots, options, camera, success.
+
+Real robosuite 1.5.2, no mocks. Episode counts are small: robosuite steps at ~100-200/s.
+"""
+
+from __future__ import annotations
+
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import robosuite
+
+import unified_manip
+from unified_manip.tasks import robosuite_tasks as rt
+
+NAMES = ("Lift", "Stack", "PickPlaceCan", "NutAssemblyRound", "Door")
+IDS = [f"UnifiedManip/{n}-v0" for n in NAMES]
+
+
+def _arrays_equal(a, b) -> bool:
+    return all(np.array_equal(a[k], b[k]) for k in a) and a.keys() == b.keys()
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_native_matches_robosuite_make(name):
+    """Same seed and actions: robosuite.make's observations and reward, bit for bit."""
+    env = gym.make(f"UnifiedManip/{name}-v0", action_mode="native")
+    obs, info = env.reset(seed=3)
+    backend = env.unwrapped._backend
+    seed, _ = backend._episode
+
+    up = robosuite.make(
+        name, robots="Panda", controller_configs=robosuite.load_composite_controller_config(controller="BASIC", robot="Panda"),
+        **rt.UPSTREAM_KWARGS,
+    )
+    up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
+    ref = up.reset()
+    flat = lambda o: np.concatenate((o["robot0_proprio-state"], o["object-state"])).astype(np.float32)  # noqa: E731
+    np.testing.assert_array_equal(obs["observation"], flat(ref))
+    actions = np.random.default_rng(0).uniform(-1, 1, (30, 7)).astype(np.float32)
+    for a in actions:
+        obs, _, _, _, info = env.step(a)
+        ref, ref_reward, _, ref_info = up.step(a.astype(np.float64))
+        np.testing.assert_array_equal(obs["observation"], flat(ref))
+        assert info["native_reward"] == ref_reward
+        assert info["native_success"] == float(up._check_success())
+    up.close()
+
+
+def test_reset_determinism_across_resets_and_instances():
+    """Bit-identical rollouts for several seeds, repeated, on two instances (ee_delta uses IK too)."""
+    for mode in ("native", "ee_delta"):
+        e1 = gym.make("UnifiedManip/PickPlaceCan-v0", action_mode=mode)
+        e2 = gym.make("UnifiedManip/PickPlaceCan-v0", action_mode=mode)
+        actions = np.random.default_rng(1).uniform(-1, 1, (15,) + e1.action_space.shape).astype(np.float32)
+        runs = {}
+        for seed in (0, 5, 0, 5):
+            outs = []
+            for env in (e1, e2):
+                obs, _ = env.reset(seed=seed)
+                traj = [obs]
+                for a in actions:
+                    traj.append(env.step(a)[0])
+                outs.append(traj)
+            assert all(_arrays_equal(x, y) for x, y in zip(*outs))
+            if seed in runs:
+                assert all(_arrays_equal(x, y) for x, y in zip(runs[seed], outs[0]))
+            runs[seed] = outs[0]
+        assert not np.array_equal(runs[0][0]["achieved_goal"], runs[5][0]["achieved_goal"])
+
+
+def test_resets_are_soft():
+    env = gym.make("UnifiedManip/Lift-v0")
+    up = env.unwrapped._backend._up
+    sim = up.sim
+    env.reset(seed=0)
+    assert up.hard_reset is False and up.sim is sim  # the simulator was not rebuilt
+
+
+@pytest.mark.parametrize("robot", rt.ROBOTS)
+def test_lift_robots(robot):
+    for mode in ("native", "ee_delta", "joint_position"):
+        env = gym.make("UnifiedManip/Lift-v0", action_mode=mode, robot=robot)
+        obs, _ = env.reset(seed=0)
+        assert env.observation_space.contains(obs)
+        for a in np.random.default_rng(0).uniform(-1, 1, (5,) + env.action_space.shape).astype(np.float32):
+            obs, _, _, truncated, info = env.step(a)
+        assert env.observation_space.contains(obs) and not truncated
+        if mode == "ee_delta":
+            assert info["ik_residual"] < 0.05
+        env.close()
+
+
+def test_options_are_validated():
+    with pytest.raises(ValueError) as err:
+        gym.make("UnifiedManip/Lift-v0", robot="Baxter")
+    assert str(err.value) == (
+        "unknown robot 'Baxter'; expected one of 'Panda', 'Sawyer', 'UR5e', 'IIWA', 'Kinova3', 'Jaco'"
+    )
+    with pytest.raises(TypeError, match=r"unknown options \['colour'\]"):
+        gym.make("UnifiedManip/Lift-v0", colour="red")
+    with pytest.raises(TypeError, match="camera_obs must be a bool"):
+        gym.make("UnifiedManip/Lift-v0", camera_obs=1)
+
+
+def test_camera_obs_image_passes_checkers():
+    from gymnasium.utils.env_checker import check_env
+    from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+    env = gym.make("UnifiedManip/Lift-v0", action_mode="ee_delta", camera_obs=True)
+    space = env.observation_space["image"]
+    assert space.shape == (84, 84, 3) and space.dtype == np.uint8
+    obs, _ = env.reset(seed=0)
+    assert obs["image"].dtype == np.uint8 and obs["image"].std() > 5.0
+    obs, *_ = env.step(env.action_space.sample())
+    assert env.observation_space.contains(obs)
+    check_env(env.unwrapped, skip_render_check=True)
+    sb3_check_env(env.unwrapped, warn=True, skip_render_check=True)
+    clone = pickle.loads(pickle.dumps(env))
+    a = env.action_space.sample()
+    assert _arrays_equal(env.step(a)[0], clone.step(a)[0])
+
+
+def test_success_implies_native_success_on_scripted_episodes():
+    """Scripted episodes with the default goal distribution: is_success => native success."""
+    for task_id, episodes in (("UnifiedManip/Lift-v0", 4), ("UnifiedManip/PickPlaceCan-v0", 4)):
+        spec = unified_manip.TASKS[task_id]
+        env = gym.make(task_id, action_mode="ee_delta")
+        policy = spec.scripted_policy("ee_delta")
+        successes = 0
+        for seed in range(episodes):
+            obs, info = env.reset(seed=2000 + seed)
+            for _ in range(spec.max_episode_steps):
+                obs, _, _, _, info = env.step(policy(obs))
+                if info["is_success"]:
+                    successes += 1
+                    assert info["native_success"] == 1.0
+        if task_id.endswith("Lift-v0"):
+            assert successes > 0
+
+
+def test_nothing_written_to_home_or_site_packages(tmp_path):
+    """Import, make every robosuite ID and step it in a fresh HOME: no files appear."""
+    site = Path(robosuite.__file__).parents[1]
+    before = {p for p in site.rglob("*") if "__pycache__" not in p.parts}
+    home = tmp_path / "home"
+    home.mkdir()
+    code = (
+        "import gymnasium as gym, unified_manip\n"
+        f"for t in {IDS!r}:\n"
+        "    e = gym.make(t); e.reset(seed=0); e.step(e.action_space.sample())\n"
+    )
+    import os
+
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+        env={**os.environ, "HOME": str(home)},
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "" and proc.stderr == ""
+    assert list(home.iterdir()) == []
+    after = {p for p in site.rglob("*") if "__pycache__" not in p.parts}
+    assert after == before
+
+
+def test_debug_logging_brings_robosuite_messages_back():
+    code = "import logging; logging.basicConfig(level=logging.DEBUG); import unified_manip"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert "No private macro file found" in proc.stderr
+
+
+def test_physics_step_and_render():
+    env = gym.make("UnifiedManip/Door-v0", render_mode="rgb_array", render_width=96, render_height=64)
+    env.reset(seed=0)
+    backend = env.unwrapped._backend
+    t = backend.data.time
+    backend.physics_step()
+    assert backend.data.time == pytest.approx(t + backend.dt)
+    frame = env.render()
+    assert frame.shape == (64, 96, 3) and frame.std() > 5.0
+    with pytest.raises(ValueError, match="not 'human'"):
+        gym.make("UnifiedManip/Door-v0", render_mode="human")
