@@ -1,0 +1,256 @@
+"""``unified-manip train`` / ``eval`` through the CLI, as a user runs them (subprocesses),
+plus the rl-baselines3-zoo smoke run. Budgets are tiny: these check the plumbing, the
+learning itself is checked by the committed experiments in ``baselines/results``."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import unified_manip
+from unified_manip.hyperparams import ALGOS, HyperparameterError, resolve
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# Small settings so 300 steps exercise learning, evaluation and checkpoints.
+SMOKE = {
+    "ppo": ["n_steps=100", "batch_size=50", "n_epochs=2"],
+    "sac": ["learning_starts=100", "batch_size=64"],
+    "td3": ["learning_starts=100", "batch_size=64"],
+    "sac_her": ["learning_starts=100", "batch_size=64"],
+    "tqc_her": ["learning_starts=100", "batch_size=64"],
+}
+RUN_SETTINGS = ["eval_freq=150", "n_eval_episodes=2", "checkpoint_freq=100"]
+
+
+def one_id_per_family() -> list[str]:
+    seen: dict[str, str] = {}
+    for tid, spec in unified_manip.TASKS.items():
+        seen.setdefault(spec.family, tid)
+    return list(seen.values())
+
+
+def mode_for(task_id: str) -> str:
+    modes = unified_manip.TASKS[task_id].action_modes
+    return "ee_delta" if "ee_delta" in modes else "native"
+
+
+def cli(*args: str, check: bool = True, timeout: float = 900) -> subprocess.CompletedProcess:
+    proc = subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=timeout, cwd=ROOT
+    )
+    if check and proc.returncode != 0:
+        raise AssertionError(f"exit {proc.returncode}\n{proc.stdout}\n{proc.stderr}")
+    return proc
+
+
+def train_args(task_id: str, algo: str, steps: int, run_dir: Path, extra: list[str] = ()) -> list[str]:
+    sets = [a for s in SMOKE[algo] + RUN_SETTINGS + list(extra) for a in ("--set", s)]
+    return [
+        "train", "--env", task_id, "--action-mode", mode_for(task_id), "--reward-type", "sparse",
+        "--algo", algo, "--steps", str(steps), "--seed", "0", "--run-dir", str(run_dir), "--no-progress", *sets,
+    ]
+
+
+def monitor_rows(run_dir: Path) -> list[dict[str, str]]:
+    rows = []
+    for path in sorted((run_dir / "monitor").glob("seg*/*.monitor.csv")):
+        with path.open() as f:
+            next(f)  # the JSON header line
+            rows.extend(csv.DictReader(f))
+    return rows
+
+
+def tb_tags(run_dir: Path) -> set[str]:
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    tags: set[str] = set()
+    for events in (run_dir / "tb").rglob("events.out.tfevents.*"):
+        acc = EventAccumulator(str(events))
+        acc.Reload()
+        tags.update(acc.Tags()["scalars"])
+    return tags
+
+
+# ---------------------------------------------------------------------- every algorithm
+@pytest.mark.parametrize("task_id", one_id_per_family())
+@pytest.mark.parametrize("algo", list(ALGOS))
+def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
+    run_dir = tmp_path / "run"
+    cli(*train_args(task_id, algo, 300, run_dir))
+    status = json.loads((run_dir / "status.json").read_text())
+    assert status["state"] == "finished" and status["num_timesteps"] >= 300
+    config = yaml.safe_load((run_dir / "config.yaml").read_text())
+    assert config["env"] == task_id and config["algo"] == algo
+    assert config["env_kwargs"] == {"action_mode": mode_for(task_id), "reward_type": "sparse"}
+    for package in ("python", "unified_manip", "mujoco", "gymnasium", "gymnasium-robotics", "robosuite",
+                    "stable-baselines3", "sb3-contrib", "torch"):
+        assert config["versions"][package] != "not installed"
+    rows = monitor_rows(run_dir)
+    assert rows and all(r["is_success"] in ("0.0", "1.0", "False", "True") for r in rows)
+    evaluations = np.load(run_dir / "eval" / "evaluations.npz")
+    assert len(evaluations["timesteps"]) >= 1 and evaluations["successes"].shape[1] == 2
+    assert (run_dir / "best" / "best_model.zip").is_file()
+    assert (run_dir / "final_model.zip").is_file()
+    assert (run_dir / "replay_buffer.pkl").is_file() == ALGOS[algo].off_policy
+    assert "rollout/success_rate" in tb_tags(run_dir)  # PPO too, which SB3 alone skips
+
+
+# ---------------------------------------------------------------------- resume
+def _wait_for_checkpoint(run_dir: Path, min_steps: int, proc: subprocess.Popen, timeout: float = 600) -> int:
+    latest = run_dir / "checkpoints" / "latest.json"
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if latest.is_file():
+            steps = json.loads(latest.read_text())["num_timesteps"]
+            if steps >= min_steps:
+                return steps
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.2)
+    raise AssertionError("no checkpoint appeared")
+
+
+@pytest.mark.parametrize("how", ["kill", "interrupt"])
+def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
+    from stable_baselines3.common.save_util import load_from_pkl
+
+    run_dir = tmp_path / "run"
+    args = train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 1000, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
+    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    checkpoint = _wait_for_checkpoint(run_dir, 400, proc)
+    proc.send_signal(signal.SIGKILL if how == "kill" else signal.SIGINT)
+    out, err = proc.communicate(timeout=300)
+    status = json.loads((run_dir / "status.json").read_text())
+    assert status["state"] == "running"  # recognised as unfinished
+    if how == "interrupt":
+        assert proc.returncode == 130
+        assert "interrupted at step" in out
+        checkpoint = json.loads((run_dir / "checkpoints" / "latest.json").read_text())["num_timesteps"]
+    assert not (run_dir / "final_model.zip").exists()
+
+    resumed = cli(*args)
+    assert f"resuming from step {checkpoint} of 1000" in resumed.stdout
+    status = json.loads((run_dir / "status.json").read_text())
+    assert status["state"] == "finished" and status["num_timesteps"] == 1000
+    buffer = load_from_pkl(run_dir / "replay_buffer.pkl")
+    # Restored transitions up to the checkpoint plus the ones collected after it.
+    assert buffer.size() * buffer.n_envs == 1000
+    # A second run of the same command leaves the finished run alone.
+    again = cli(*args)
+    assert "already finished at 1000 steps" in again.stdout
+
+
+# ---------------------------------------------------------------------- eval
+@pytest.fixture(scope="module")
+def trained_run(tmp_path_factory) -> Path:
+    run_dir = tmp_path_factory.mktemp("trained") / "run"
+    cli(*train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 300, run_dir))
+    return run_dir
+
+
+def test_eval_reports_success_with_confidence_interval_and_video(trained_run, tmp_path):
+    video = tmp_path / "episodes.gif"
+    out = tmp_path / "eval.json"
+    proc = cli("eval", str(trained_run), "--episodes", "6", "--video", str(video), "--json", str(out))
+    result = json.loads(out.read_text())
+    assert result["episodes"] == 6 and 0 <= result["successes"] <= 6
+    assert result["ci_low"] <= result["success_rate"] <= result["ci_high"]
+    assert result["ci_high"] - result["ci_low"] > 0.2  # 6 episodes cannot be precise
+    assert f"{result['successes']}/6 episodes" in proc.stdout
+    import imageio.v3 as iio
+
+    frames = iio.imread(video, index=None)
+    assert frames.shape[0] == 2 * (50 + 1) and frames.shape[-1] == 3
+
+
+def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
+    proc = cli("eval", str(trained_run), "--action-mode", "joint_torque", check=False)
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == (
+        "unified-manip eval: error: the model was trained with action_mode 'ee_delta'; it cannot be "
+        "evaluated with action_mode 'joint_torque' (the actions mean different things)"
+    )
+
+
+# ---------------------------------------------------------------------- bad input
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--algo", "dqn"], "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her')"),
+        (["--env", "UnifiedManip/Nope-v0"], "argument --env: invalid choice: 'UnifiedManip/Nope-v0'"),
+        (["--action-mode", "cartesian"], "argument --action-mode: invalid choice: 'cartesian'"),
+        (["--reward-type", "shaped"], "argument --reward-type: invalid choice: 'shaped'"),
+        (["--steps", "0"], "argument --steps: expected a positive integer, got '0'"),
+        (["--steps", "-5"], "argument --steps: expected a positive integer, got '-5'"),
+        (["--set", "learning_rate"], "malformed --set 'learning_rate'; expected key=value, e.g. learning_rate=0.0003"),
+        (["--set", "learning_rate=fast"], "--set 'learning_rate=fast': learning_rate must be float, got str"),
+        (["--set", "warp=9"], "unknown hyperparameter 'warp' in --set 'warp=9'; expected one of "),
+    ],
+)
+def test_bad_train_input_is_one_line_exit_2(args, message, tmp_path):
+    base = {"--env": "UnifiedManip/Arm4Reach-v0", "--algo": "sac", "--steps": "10", "--run-dir": str(tmp_path / "r")}
+    for flag, value in zip(args[::2], args[1::2]):
+        base[flag] = value
+    argv = ["train", "--no-progress"] + [x for kv in base.items() for x in kv if kv[0] != "--set"]
+    if "--set" in base:
+        argv += ["--set", base["--set"]]
+    proc = cli(*argv, check=False)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], proc.stderr
+    assert not (tmp_path / "r").exists()
+
+
+def test_unsupported_mode_for_task_names_the_valid_modes(tmp_path):
+    hand = next((t for t, s in unified_manip.TASKS.items() if "ee_delta" not in s.action_modes), None)
+    assert hand is not None, "expected a task without ee_delta (the Shadow Hand tasks)"
+    proc = cli("train", "--env", hand, "--action-mode", "ee_delta", "--algo", "sac", "--steps", "10",
+               "--run-dir", str(tmp_path / "r"), check=False)
+    assert proc.returncode == 2
+    expected = ", ".join(unified_manip.TASKS[hand].action_modes)
+    assert proc.stderr.strip().endswith(f"action mode 'ee_delta' is not supported by {hand}; expected one of {expected}")
+
+
+def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
+    for algo in ALGOS:
+        text = (ROOT / "baselines" / f"{algo}.yaml").read_text()
+        assert "Source:" in text  # each file records where its values come from
+        assert "dict(" not in text and "lambda:" not in text and "!!python" not in text
+        params = resolve(algo, "UnifiedManip/Arm4PickAndPlace-v0")
+        assert params["policy"] == "MultiInputPolicy"
+    # The anchor shares the large-network entry between Fetch and arm object tasks.
+    assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0") == resolve("tqc_her", "UnifiedManip/FetchPush-v0")
+    assert resolve("tqc_her", "UnifiedManip/FetchPush-v0")["policy_kwargs"] == {"net_arch": [512, 512, 512], "n_critics": 2}
+    with pytest.raises(HyperparameterError, match="buffer_size must be int, got float"):
+        resolve("sac", "UnifiedManip/Arm4Reach-v0", ("buffer_size=1.5",))
+    assert resolve("sac", "UnifiedManip/Arm4Reach-v0", ("learning_rate=3e-4",))["learning_rate"] == 3e-4
+
+
+# ---------------------------------------------------------------------- rl-baselines3-zoo
+def test_rl_zoo3_trains_a_unified_manip_id(tmp_path):
+    env = dict(os.environ)
+    proc = subprocess.run(
+        [
+            sys.executable, "-m", "rl_zoo3.train", "--gym-packages", "unified_manip", "--algo", "tqc",
+            "--env", "UnifiedManip/FetchReach-v0", "--conf-file", str(ROOT / "baselines" / "zoo" / "tqc.yml"),
+            "-n", "300", "--env-kwargs", "action_mode:'native'", "reward_type:'sparse'",
+            "--hyperparams", "learning_starts:100", "--eval-freq", "-1", "--seed", "0", "--log-folder", str(tmp_path),
+        ],
+        capture_output=True, text=True, timeout=900, env=env,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    run = tmp_path / "tqc" / "UnifiedManip-FetchReach-v0_1"
+    assert (run / "UnifiedManip-FetchReach-v0.zip").is_file()
+    config = (run / "UnifiedManip-FetchReach-v0" / "args.yml").read_text()
+    assert "action_mode" in config and "native" in config
