@@ -310,11 +310,16 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
     torch.set_num_threads(max(1, min(2, os.cpu_count() or 1)))
+    ckpt = latest_checkpoint(run_dir)
+    if ckpt is None:  # starting (again) from step 0: logs of an aborted attempt would mislead
+        import shutil
+
+        for sub in ("monitor", "eval", "best", "tb"):
+            shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
     env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}")
     eval_env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
     cls = algo.cls()
-    ckpt = latest_checkpoint(run_dir)
     started = time.time()
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
     try:
