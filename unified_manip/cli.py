@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
 import sys
 from pathlib import Path
 
@@ -134,6 +135,46 @@ def cmd_eval(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench(args: argparse.Namespace) -> int:
+    from .bench import load_grid, run_grid
+
+    grid = load_grid(Path(args.grid))
+    out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
+    summary = run_grid(
+        grid,
+        out,
+        executor=args.executor,
+        workers=args.workers,
+        address=args.address,
+        retries=args.retries,
+        progress=not args.no_progress,
+        command=shlex.join(["unified-manip", *sys.argv[1:]]),
+    )
+    print(
+        f"{summary['finished']}/{summary['runs']} runs finished, {len(summary['failed'])} failed; "
+        f"results in {summary['results']}"
+    )
+    for name in summary["failed"]:
+        print(f"failed: {name} (see failures.jsonl)")
+    return 0 if not summary["failed"] else 1
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    import yaml
+
+    from .report import build_report
+
+    results = Path(args.results)
+    if not results.is_file():
+        raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    claims = yaml.safe_load(Path(args.claims).read_text()) if args.claims else None
+    out = Path(args.out) if args.out else results.parent / "report"
+    path = build_report(results, out, command=shlex.join(["unified-manip", *sys.argv[1:]]),
+                        dense_check=not args.no_dense_check, claims=claims)
+    print(f"wrote {path}")
+    return 0
+
+
 def _env_kwarg(value: str) -> tuple[str, object]:
     import yaml
 
@@ -188,6 +229,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", help="also write the result to this JSON file")
     p.set_defaults(func=cmd_eval)
 
+    p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
+    p.add_argument("grid", help="grid YAML file, e.g. baselines/grids/action_spaces.yaml")
+    p.add_argument("--out", help="bench directory (default: baselines/results/<grid name>)")
+    p.add_argument("--executor", choices=("local", "ray"), default="local")
+    p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
+    p.add_argument("--workers", type=_positive_int, help="runs at a time (default: CPU cores)")
+    p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("report", help="Markdown + PNG report from a bench's results.csv")
+    p.add_argument("results", help="results.csv written by unified-manip bench")
+    p.add_argument("--out", help="output directory (default: <results dir>/report)")
+    p.add_argument("--claims", help="YAML of claimed results to set beside the measured ones")
+    p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
+    p.set_defaults(func=cmd_report)
+
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
     p.add_argument("--out", default="demo.png", help="output PNG")
     p.add_argument("--env", type=_task_ids, help="comma-separated IDs (default: all with a scripted policy)")
@@ -209,6 +267,7 @@ def _positive_int(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .bench import GridError
     from .hyperparams import HyperparameterError
     from .train import TrainError
 
@@ -216,7 +275,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (TrainError, HyperparameterError) as err:
+    except (TrainError, HyperparameterError, GridError, FileNotFoundError) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
 

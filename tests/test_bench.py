@@ -1,0 +1,211 @@
+"""``unified-manip bench`` and ``report``: grids, executors, resume, statistics."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from unified_manip.bench import GridError, load_grid, read_results, run_grid, write_results
+from unified_manip.report import build_report
+from unified_manip.rewards import RewardSpec, Term
+from unified_manip.sanity import dense_reward_check
+
+ROOT = Path(__file__).resolve().parents[1]
+
+TINY = {
+    "name": "tiny",
+    "tasks": ["UnifiedManip/Arm4Reach-v0"],
+    "action_modes": ["ee_delta", "joint_delta"],
+    "reward_types": ["sparse"],
+    "algos": ["sac_her"],
+    "seeds": [0, 1],
+    "steps": 200,
+    "eval_freq": 100,
+    "n_eval_episodes": 2,
+    "overrides": {"sac_her": ["learning_starts=50", "batch_size=32", "checkpoint_freq=100", "policy_kwargs.net_arch=[16,16]"]},
+}
+
+
+def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def _check_complete(out: Path, expected_runs: int) -> list[dict]:
+    rows = read_results(out / "results.csv")
+    assert len(rows) == expected_runs
+    assert len({r["run"] for r in rows}) == expected_runs  # exactly one row per run
+    for r in rows:
+        assert r["steps"] == 200 and r["curve"][-1][0] >= 200
+        assert 0.0 <= r["final_success_rate"] <= 1.0
+        assert r["wall_time_s"] > 0 and r["steps_per_s"] > 0
+        assert r["versions"]["mujoco"] == "3.9.0"
+    return rows
+
+
+# ---------------------------------------------------------------------- executors
+def test_local_executor_runs_a_2x2_grid(tmp_path):
+    grid = load_grid(write_grid(tmp_path, TINY))
+    assert len(grid.runs) == 4
+    summary = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
+    assert summary["finished"] == 4 and summary["failed"] == []
+    rows = _check_complete(tmp_path / "out", 4)
+    assert {(r["action_mode"], r["seed"]) for r in rows} == {("ee_delta", 0), ("ee_delta", 1), ("joint_delta", 0), ("joint_delta", 1)}
+    # A second bench skips every finished run.
+    again = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
+    assert again["finished"] == 4 and again["wall_time_s"] < 5
+
+
+def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
+    import ray
+
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
+    try:
+        grid = load_grid(write_grid(tmp_path, TINY))
+        summary = run_grid(grid, tmp_path / "out", executor="ray", workers=2, progress=False)
+    finally:
+        ray.shutdown()
+    assert summary["finished"] == 4 and summary["failed"] == []
+    _check_complete(tmp_path / "out", 4)
+
+
+def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path):
+    doc = dict(TINY, seeds=[0])
+    grid = load_grid(write_grid(tmp_path, doc))
+    out = tmp_path / "out"
+    # Occupy one run's directory with a foreign file: train refuses it, every attempt.
+    bad = out / "runs" / grid.runs[0].name
+    bad.mkdir(parents=True)
+    (bad / "notes.txt").write_text("not a run")
+    summary = run_grid(grid, out, executor="local", workers=2, retries=1, progress=False)
+    assert summary["finished"] == 1 and summary["failed"] == [grid.runs[0].name]
+    failures = [json.loads(line) for line in (out / "failures.jsonl").read_text().splitlines()]
+    assert [f["attempt"] for f in failures] == [1, 2]  # first try + one retry
+    assert "is not a unified-manip run directory" in failures[0]["error"]
+    assert [r["run"] for r in read_results(out / "results.csv")] == [grid.runs[1].name]
+
+
+def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(tmp_path):
+    grid_path = write_grid(tmp_path, dict(TINY, steps=200))
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "unified_manip.cli", "bench", str(grid_path), "--out", str(out), "--workers", "1", "--no-progress"]
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    deadline = time.time() + 600
+    while time.time() < deadline:
+        results = out / "results.csv"
+        if results.is_file() and len(results.read_text().strip().splitlines()) >= 2:  # header + one run
+            break
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGKILL)  # the bench and its worker, mid-way
+    proc.wait()
+    first = read_results(out / "results.csv")
+    assert 1 <= len(first) < 4
+    finished_before = {r["run"]: r["wall_time_s"] for r in first}
+
+    subprocess.run(cmd, cwd=ROOT, check=True, capture_output=True, timeout=900)
+    rows = _check_complete(out, 4)
+    for r in rows:  # finished runs were skipped, not run again
+        if r["run"] in finished_before:
+            assert r["wall_time_s"] == finished_before[r["run"]]
+
+
+# ---------------------------------------------------------------------- grid errors
+@pytest.mark.parametrize(
+    "change,message",
+    [
+        ({"seeds": None}, "missing grid key(s) seeds; required: tasks, action_modes, reward_types, algos, seeds, steps"),
+        ({"budget": 10}, "unknown grid key(s) 'budget'; expected tasks, action_modes, reward_types, algos, seeds, steps, name, description, eval_freq, n_eval_episodes, overrides, n_envs"),
+        ({"tasks": ["UnifiedManip/Nope-v0"]}, "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0"),
+        ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her"),
+        ({"reward_types": ["shaped"]}, "unknown reward type 'shaped'; expected one of sparse, dense, dense_penalized"),
+        ({"steps": 0}, "steps must be a positive integer, got 0"),
+        ({"seeds": []}, "grid key 'seeds' must be a non-empty list of int, got []"),
+        ({"action_modes": ["teleport"]}, "action mode 'teleport' is not supported by UnifiedManip/Arm4Reach-v0; expected one of"),
+        ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
+    ],
+)
+def test_malformed_grids_give_exact_errors(tmp_path, change, message):
+    doc = dict(TINY)
+    for k, v in change.items():
+        if v is None:
+            doc.pop(k)
+        else:
+            doc[k] = v
+    path = write_grid(tmp_path, doc)
+    with pytest.raises(GridError) as err:
+        load_grid(path)
+    assert str(err.value).startswith(f"{path}: {message}")
+
+
+def test_committed_grids_are_valid():
+    for path in sorted((ROOT / "baselines" / "grids").glob("*.yaml")):
+        grid = load_grid(path)
+        assert len(grid.runs) > 0 and len({r.seed for r in grid.runs}) >= 3
+
+
+# ---------------------------------------------------------------------- report
+def _fixture_rows() -> list[dict]:
+    versions = json.dumps({"mujoco": "3.9.0", "stable-baselines3": "2.9.2"})
+    rows = []
+    finals = {"ee_delta": [0.2, 0.4, 0.6, 0.8], "joint_delta": [0.1, 0.1, 0.3, 0.3]}
+    for mode, values in finals.items():
+        for seed, final in enumerate(values):
+            rows.append({
+                "run": f"Arm4Reach-v0__{mode}__sparse__sac_her__s{seed}", "task": "UnifiedManip/Arm4Reach-v0",
+                "action_mode": mode, "reward_type": "sparse", "algo": "sac_her", "seed": seed, "steps": 1000,
+                "final_success_rate": final, "curve": json.dumps([[500, final / 2], [1000, final]]),
+                "wall_time_s": 100.0, "steps_per_s": 10.0, "versions": versions,
+            })
+    return rows
+
+
+def test_report_numbers_match_hand_computed_values(tmp_path):
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    write_results(bench, _fixture_rows())
+    path = build_report(bench / "results.csv", tmp_path / "report", command="unified-manip report fixture")
+    text = path.read_text()
+    table = {line.split("|")[3].strip(): [c.strip() for c in line.split("|")] for line in text.splitlines()
+             if line.startswith("| Arm4Reach-v0 | sac_her |")}
+    ee, jd = table["ee_delta"], table["joint_delta"]
+    assert ee[6] == "0.50" and jd[6] == "0.20"  # means: (0.2+0.4+0.6+0.8)/4 and (0.1+0.1+0.3+0.3)/4
+    # IQM of four runs trims one from each end: (0.4 + 0.6) / 2 and (0.1 + 0.3) / 2.
+    assert ee[8].startswith("0.50 [") and jd[8].startswith("0.20 [")
+    low, high = (float(x) for x in ee[7].strip("[]").split(","))
+    assert 0.2 <= low < 0.5 < high <= 0.8
+    assert ee[9] == "0.20, 0.40, 0.60, 0.80"
+    # P(ee > jd): pairs (x, y) with x > y count 1, ties 1/2. By hand: 0.2 beats the two
+    # 0.1s, 0.4, 0.6 and 0.8 beat all four: 14 of 16 pairs -> 0.875.
+    wins = sum(1.0 if x > y else 0.5 if x == y else 0.0 for x in (0.2, 0.4, 0.6, 0.8) for y in (0.1, 0.1, 0.3, 0.3))
+    assert wins / 16 == 0.875
+    assert "| 2 | joint_delta | 0.20 | 0.88 |" in text
+    assert "| 1 | ee_delta | 0.50 | — |" in text
+    for needle in ("Budget: 1,000 environment steps", "Seeds: 0, 1, 2, 3", "mujoco 3.9.0", "unified-manip report fixture",
+                   "![UnifiedManip/Arm4Reach-v0](Arm4Reach-v0_success.png)", "Dense-reward sanity check"):
+        assert needle in text
+    assert (tmp_path / "report" / "Arm4Reach-v0_success.png").stat().st_size > 10_000
+
+
+def test_dense_rewards_peak_inside_the_success_region():
+    for task in ("UnifiedManip/Arm4Reach-v0", "UnifiedManip/Arm4PickAndPlace-v0"):
+        for reward in ("dense", "dense_penalized"):
+            check = dense_reward_check(task, reward)
+            assert not check.flagged and check.max_inside > check.max_outside
+
+
+def test_dense_check_flags_a_reward_whose_optimum_misses_the_goal():
+    """A shaping that prefers hovering 10 cm from the goal is caught."""
+    hover = RewardSpec("dense", (Term("hover", lambda d, s, ctx: -np.abs(d - 0.10), 1.0),))
+    check = dense_reward_check("UnifiedManip/Arm4Reach-v0", "dense", reward_spec=hover)
+    assert check.flagged and check.max_outside > check.max_inside

@@ -1,0 +1,360 @@
+"""``unified-manip bench``: a grid of training runs, on this machine or a Ray cluster.
+
+A grid file (``baselines/grids/*.yaml``) lists tasks x action modes x reward types x
+algorithms x seeds, the budget and the evaluation schedule::
+
+    name: action_spaces
+    tasks: [UnifiedManip/Arm4Reach-v0, UnifiedManip/FetchReach-v0]
+    action_modes: all              # or a list; "all" = every mode each task supports
+    reward_types: [sparse]
+    algos: [sac_her]
+    seeds: [0, 1, 2]
+    steps: 10000                   # env steps per run
+    eval_freq: 1000                # env steps between evaluations
+    n_eval_episodes: 20
+    overrides: {sac_her: [learning_starts=500]}   # optional, per algorithm
+    only:                          # optional: keep just the combinations matching an entry
+      - {algo: ppo, reward_type: sparse}
+
+Each run is the ``train`` command's run, in ``<out>/runs/<run name>``. Re-running a bench
+skips finished runs and resumes unfinished ones from their checkpoints. A run that
+crashes is retried up to ``retries`` times and then recorded as failed with its error;
+it never blocks the rest. ``<out>/results.csv`` gets one row per *finished* run, and is
+rewritten atomically after every run, so it never holds a half-written run.
+"""
+
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import os
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import yaml
+
+from .config import REWARD_TYPES
+from .hyperparams import ALGOS, get_algo, resolve
+from .registry import TASKS
+
+REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
+OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only")
+ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
+RESULT_COLUMNS = (
+    "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",
+    "curve", "wall_time_s", "steps_per_s", "versions",
+)
+
+
+class GridError(ValueError):
+    """A grid file is malformed (reported before any run starts)."""
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    task: str
+    action_mode: str
+    reward_type: str
+    algo: str
+    seed: int
+    steps: int
+    overrides: tuple[str, ...]
+    n_envs: int = 1
+
+    @property
+    def name(self) -> str:
+        return f"{self.task.split('/')[-1]}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+
+
+@dataclass(frozen=True)
+class Grid:
+    name: str
+    runs: tuple[RunSpec, ...]
+    source: dict[str, Any]
+
+
+def _list(path: Path, doc: dict, key: str, kind: type) -> list:
+    value = doc[key]
+    if not isinstance(value, list) or not value or not all(isinstance(v, kind) and not isinstance(v, bool) for v in value):
+        raise GridError(f"{path}: grid key {key!r} must be a non-empty list of {kind.__name__}, got {value!r}")
+    return value
+
+
+def load_grid(path: Path) -> Grid:
+    """Read and fully validate a grid file; raise :class:`GridError` on any problem."""
+    path = Path(path)
+    if not path.is_file():
+        raise GridError(f"grid file {path} not found")
+    doc = yaml.safe_load(path.read_text())
+    if not isinstance(doc, dict):
+        raise GridError(f"{path}: expected a mapping with keys {', '.join(REQUIRED)}")
+    missing = [k for k in REQUIRED if k not in doc]
+    if missing:
+        raise GridError(f"{path}: missing grid key(s) {', '.join(missing)}; required: {', '.join(REQUIRED)}")
+    unknown = [k for k in doc if k not in REQUIRED + OPTIONAL]
+    if unknown:
+        raise GridError(
+            f"{path}: unknown grid key(s) {', '.join(map(repr, unknown))}; expected {', '.join(REQUIRED + OPTIONAL)}"
+        )
+    tasks = _list(path, doc, "tasks", str)
+    for t in tasks:
+        if t not in TASKS:
+            raise GridError(f"{path}: unknown task {t!r}; expected one of {', '.join(TASKS)}")
+    rewards = _list(path, doc, "reward_types", str)
+    for r in rewards:
+        if r not in REWARD_TYPES:
+            raise GridError(f"{path}: unknown reward type {r!r}; expected one of {', '.join(REWARD_TYPES)}")
+    algos = _list(path, doc, "algos", str)
+    for a in algos:
+        if a not in ALGOS:
+            raise GridError(f"{path}: unknown algorithm {a!r}; expected one of {', '.join(ALGOS)}")
+    seeds = _list(path, doc, "seeds", int)
+    steps = doc["steps"]
+    if not isinstance(steps, int) or isinstance(steps, bool) or steps <= 0:
+        raise GridError(f"{path}: steps must be a positive integer, got {steps!r}")
+    modes_value = doc["action_modes"]
+    if modes_value != "all":
+        modes = _list(path, doc, "action_modes", str)
+        for t in tasks:
+            unsupported = [m for m in modes if m not in TASKS[t].action_modes]
+            if unsupported:
+                raise GridError(
+                    f"{path}: action mode {unsupported[0]!r} is not supported by {t}; "
+                    f"expected one of {', '.join(TASKS[t].action_modes)} (or action_modes: all)"
+                )
+    overrides = doc.get("overrides") or {}
+    if not isinstance(overrides, dict) or any(a not in algos or not isinstance(v, list) for a, v in overrides.items()):
+        raise GridError(f"{path}: overrides must map algorithms of the grid to lists of key=value strings")
+    run_settings = []
+    for key in ("eval_freq", "n_eval_episodes"):
+        if key in doc:
+            if not isinstance(doc[key], int) or doc[key] <= 0:
+                raise GridError(f"{path}: {key} must be a positive integer, got {doc[key]!r}")
+            run_settings.append(f"{key}={doc[key]}")
+    n_envs = doc.get("n_envs", 1)
+    if not isinstance(n_envs, int) or n_envs <= 0:
+        raise GridError(f"{path}: n_envs must be a positive integer, got {n_envs!r}")
+    only = doc.get("only")
+    if only is not None:
+        if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
+            raise GridError(f"{path}: only must be a non-empty list of mappings with keys from {', '.join(ONLY_KEYS)}")
+        for entry in only:
+            bad = [k for k in entry if k not in ONLY_KEYS]
+            if bad:
+                raise GridError(f"{path}: unknown key {bad[0]!r} in only; expected {', '.join(ONLY_KEYS)}")
+    runs = []
+    for t, r, a, s in itertools.product(tasks, rewards, algos, seeds):
+        for m in TASKS[t].action_modes if modes_value == "all" else modes:
+            combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
+            if only is not None and not any(all(combo[k] == v for k, v in e.items()) for e in only):
+                continue
+            sets = tuple(run_settings + list(overrides.get(a, [])))
+            try:  # every hyperparameter override is checked before anything starts
+                resolve(a, t, sets)
+            except ValueError as err:
+                raise GridError(f"{path}: {err}") from None
+            runs.append(RunSpec(t, m, r, a, s, steps, sets, n_envs))
+    if not runs:
+        raise GridError(f"{path}: the grid selects no runs")
+    return Grid(str(doc.get("name", path.stem)), tuple(runs), doc)
+
+
+# ---------------------------------------------------------------------- one run
+def run_one(spec: RunSpec, out_dir: str, threads: int = 1) -> dict[str, Any]:
+    """Train one run (resuming if needed) and return its results row. Runs in a worker."""
+    import torch
+
+    from .train import TrainRequest, train
+
+    torch.set_num_threads(threads)
+    run_dir = Path(out_dir) / "runs" / spec.name
+    req = TrainRequest(
+        env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
+        steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides,
+    )
+    train(req, argv=None, progress=False, log=lambda msg: None)
+    row = collect_row(run_dir)
+    if row is None:
+        raise RuntimeError(f"{run_dir} did not finish")
+    return row
+
+
+def collect_row(run_dir: Path) -> dict[str, Any] | None:
+    """The results row of a finished run, or ``None`` if it is not finished."""
+    from .train import CONFIG, read_status
+
+    run_dir = Path(run_dir)
+    status = read_status(run_dir)
+    if not status or status.get("state") != "finished" or not (run_dir / "final_model.zip").is_file():
+        return None
+    config = yaml.safe_load((run_dir / CONFIG).read_text())
+    evaluations = np.load(run_dir / "eval" / "evaluations.npz")
+    steps = evaluations["timesteps"].tolist()
+    success = evaluations["successes"].mean(axis=1).tolist() if "successes" in evaluations else [float("nan")] * len(steps)
+    wall = float(status.get("wall_time_s", float("nan")))
+    return {
+        "run": run_dir.name,
+        "task": config["env"],
+        "action_mode": config["env_kwargs"]["action_mode"],
+        "reward_type": config["env_kwargs"]["reward_type"],
+        "algo": config["algo"],
+        "seed": config["seed"],
+        "steps": config["steps"],
+        "final_success_rate": success[-1] if success else float("nan"),
+        "curve": json.dumps([[int(t), float(s)] for t, s in zip(steps, success)]),
+        "wall_time_s": wall,
+        "steps_per_s": status["num_timesteps"] / wall if wall and wall == wall else float("nan"),
+        "versions": json.dumps(config["versions"], sort_keys=True),
+    }
+
+
+def write_results(out_dir: Path, rows: list[dict[str, Any]]) -> Path:
+    """Write ``results.csv`` (one row per finished run) atomically."""
+    path = Path(out_dir) / "results.csv"
+    tmp = path.with_name("results.csv.tmp")
+    with tmp.open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=RESULT_COLUMNS)
+        writer.writeheader()
+        for row in sorted(rows, key=lambda r: r["run"]):
+            writer.writerow({k: row[k] for k in RESULT_COLUMNS})
+    os.replace(tmp, path)
+    return path
+
+
+def read_results(path: Path) -> list[dict[str, Any]]:
+    with Path(path).open() as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        r["seed"] = int(r["seed"])
+        r["steps"] = int(r["steps"])
+        for k in ("final_success_rate", "wall_time_s", "steps_per_s"):
+            r[k] = float(r[k])
+        r["curve"] = json.loads(r["curve"])
+        r["versions"] = json.loads(r["versions"])
+    return rows
+
+
+# ---------------------------------------------------------------------- executors
+def _local_executor(workers: int):
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+
+
+def run_grid(
+    grid: Grid,
+    out_dir: Path,
+    executor: str = "local",
+    workers: int | None = None,
+    address: str | None = None,
+    retries: int = 1,
+    progress: bool = True,
+    command: str | None = None,
+    on_event: Callable[[str, RunSpec], None] | None = None,
+) -> dict[str, Any]:
+    """Run every run of ``grid`` that is not finished yet; return a summary."""
+    out_dir = Path(out_dir).resolve()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
+    if command:
+        (out_dir / "command.txt").write_text(command + "\n")
+    rows = {r["run"]: r for r in (collect_row(out_dir / "runs" / s.name) for s in grid.runs) if r}
+    todo = [s for s in grid.runs if s.name not in rows]
+    failures: dict[str, str] = {}
+    attempts = {s.name: 0 for s in todo}
+    write_results(out_dir, list(rows.values()))
+    workers = workers or max(1, os.cpu_count() or 1)
+
+    from tqdm import tqdm
+
+    bar = tqdm(total=len(grid.runs), initial=len(rows), unit="run", desc=grid.name, disable=not progress, dynamic_ncols=True)
+    started = time.time()
+
+    def done(spec: RunSpec, row: dict | None, error: str | None) -> bool:
+        """Record a finished attempt; return True if the run should be retried."""
+        attempts[spec.name] += 1
+        if row is not None:
+            rows[spec.name] = row
+            failures.pop(spec.name, None)
+            write_results(out_dir, list(rows.values()))
+            bar.update(1)
+            if on_event:
+                on_event("finished", spec)
+            return False
+        failures[spec.name] = error or "unknown error"
+        _record_failure(out_dir, spec, failures[spec.name], attempts[spec.name])
+        if on_event:
+            on_event("failed", spec)
+        return attempts[spec.name] <= retries
+
+    def postfix(running: int) -> None:
+        bar.set_postfix(running=running, failed=len(failures), refresh=True)
+
+    if executor == "local":
+        pool = _local_executor(workers)
+        try:
+            queue = list(todo)
+            futures = {}
+            while queue or futures:
+                while queue and len(futures) < workers:
+                    spec = queue.pop(0)
+                    futures[pool.submit(run_one, spec, str(out_dir))] = spec
+                postfix(len(futures))
+                from concurrent.futures import FIRST_COMPLETED, wait
+
+                finished, _ = wait(list(futures), return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    spec = futures.pop(fut)
+                    try:
+                        retry = done(spec, fut.result(), None)
+                    except Exception as err:  # a crashed run must not stop the grid
+                        retry = done(spec, None, "".join(traceback.format_exception_only(type(err), err)).strip())
+                    if retry:
+                        queue.append(spec)
+        finally:
+            pool.shutdown(cancel_futures=True)
+    elif executor == "ray":
+        import ray
+
+        if not ray.is_initialized():
+            ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+        remote = ray.remote(num_cpus=1, max_retries=0)(run_one)
+        queue = list(todo)
+        pending = {}
+        while queue or pending:
+            while queue and len(pending) < workers:
+                spec = queue.pop(0)
+                pending[remote.remote(spec, str(out_dir))] = spec
+            postfix(len(pending))
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                spec = pending.pop(ref)
+                try:
+                    retry = done(spec, ray.get(ref), None)
+                except Exception as err:
+                    cause = getattr(err, "cause", None) or err
+                    retry = done(spec, None, f"{type(cause).__name__}: {cause}".splitlines()[0])
+                if retry:
+                    queue.append(spec)
+    else:
+        raise GridError(f"unknown executor {executor!r}; expected 'local' or 'ray'")
+    postfix(0)
+    bar.close()
+    return {
+        "runs": len(grid.runs),
+        "finished": len(rows),
+        "failed": sorted(failures),
+        "wall_time_s": time.time() - started,
+        "results": str(out_dir / "results.csv"),
+    }
+
+
+def _record_failure(out_dir: Path, spec: RunSpec, error: str, attempt: int) -> None:
+    with (Path(out_dir) / "failures.jsonl").open("a") as f:
+        f.write(json.dumps({"run": spec.name, "attempt": attempt, "error": error, "time": time.time()}) + "\n")

@@ -1,0 +1,235 @@
+"""``unified-manip report RESULTS``: Markdown and PNG figures from a bench's results.
+
+Statistics come from libraries, not hand-rolled code: 95% confidence intervals of mean
+final success are ``scipy.stats.bootstrap`` percentile intervals over seeds; the
+interquartile mean (IQM, with its stratified-bootstrap interval) and the probability of
+improvement come from ``rliable``. The report states the budget, the seeds, the
+package versions and the commands that produced it, and includes the dense-reward
+sanity check of :mod:`unified_manip.sanity`.
+"""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .bench import read_results
+
+#: IQM needs enough runs to trim a quarter from each end.
+MIN_RUNS_FOR_IQM = 4
+CONFIDENCE = 0.95
+
+
+def bootstrap_ci(values: list[float], seed: int = 0) -> tuple[float, float]:
+    """95% percentile-bootstrap interval of the mean (``scipy.stats.bootstrap``)."""
+    from scipy.stats import bootstrap
+
+    data = np.asarray(values, dtype=float)
+    if len(data) < 2:
+        return float("nan"), float("nan")
+    if np.all(data == data[0]):  # no spread: the interval is the point
+        return float(data[0]), float(data[0])
+    res = bootstrap((data,), np.mean, confidence_level=CONFIDENCE, method="percentile", n_resamples=10_000,
+                    random_state=np.random.default_rng(seed))
+    return float(res.confidence_interval.low), float(res.confidence_interval.high)
+
+
+def iqm_with_ci(values: list[float], seed: int = 0) -> tuple[float, float, float] | None:
+    """rliable's IQM and its stratified-bootstrap 95% interval, or None with too few runs."""
+    if len(values) < MIN_RUNS_FOR_IQM:
+        return None
+    from rliable import library as rly
+    from rliable import metrics
+
+    np.random.seed(seed)  # rliable draws from numpy's global generator
+    scores = {"x": np.asarray(values, dtype=float).reshape(-1, 1)}
+    point, interval = rly.get_interval_estimates(scores, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=2000)
+    return float(point["x"][0]), float(interval["x"][0, 0]), float(interval["x"][1, 0])
+
+
+def probability_of_improvement(x: list[float], y: list[float]) -> float:
+    """P(X > Y) from rliable (ties count half)."""
+    from rliable import metrics
+
+    return float(metrics.probability_of_improvement(np.asarray(x, float).reshape(-1, 1), np.asarray(y, float).reshape(-1, 1)))
+
+
+def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]]:
+    out: dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]] = defaultdict(lambda: defaultdict(list))
+    for r in rows:
+        out[r["task"]][(r["algo"], r["action_mode"], r["reward_type"])].append(r)
+    return out
+
+
+def _curve_band(runs: list[dict[str, Any]]):
+    """Common eval steps, mean success and a 95% bootstrap band over seeds."""
+    steps = sorted(set.intersection(*(set(t for t, _ in r["curve"]) for r in runs)))
+    table = np.array([[dict(map(tuple, r["curve"]))[t] for t in steps] for r in runs], dtype=float)
+    mean = table.mean(axis=0)
+    low, high = np.full_like(mean, np.nan), np.full_like(mean, np.nan)
+    if len(runs) >= 2:
+        for i in range(len(steps)):
+            low[i], high[i] = bootstrap_ci(table[:, i].tolist(), seed=i)
+    return np.array(steps), mean, low, high
+
+
+def plot_task(task: str, groups: dict, out: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
+    for (algo, mode, reward), runs in sorted(groups.items()):
+        steps, mean, low, high = _curve_band(runs)
+        line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
+        if np.isfinite(low).any():
+            ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
+    ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
+    ax.set_xlabel("environment steps")
+    ax.set_ylabel("success rate")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    path = out / f"{task.split('/')[-1]}_success.png"
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def _fmt(x: float) -> str:
+    return "—" if x != x else f"{x:.2f}"
+
+
+def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:
+    """Write ``report.md`` and figures for ``results`` into ``out``; return the Markdown path."""
+    rows = read_results(results)
+    out.mkdir(parents=True, exist_ok=True)
+    by_task = _group(rows)
+    lines: list[str] = []
+    bench_dir = Path(results).parent
+    title = bench_dir.name
+    lines += [f"# Benchmark report: {title}", ""]
+    lines += ["## How this was made", ""]
+    bench_cmd = (bench_dir / "command.txt").read_text().strip() if (bench_dir / "command.txt").is_file() else None
+    if bench_cmd:
+        lines += ["Runs:", "", "```bash", bench_cmd, "```", ""]
+    lines += ["This report:", "", "```bash", command or shlex.join(["unified-manip", "report", str(results)]), "```", ""]
+    budgets = sorted({r["steps"] for r in rows})
+    seeds = sorted({r["seed"] for r in rows})
+    versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
+    lines += [
+        f"- Runs: {len(rows)} finished (rows of `{Path(results).name}`; unfinished runs are never included).",
+        f"- Budget: {', '.join(f'{b:,}' for b in budgets)} environment steps per run.",
+        f"- Seeds: {', '.join(map(str, seeds))}.",
+        f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
+        f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",
+        "- Success rate: deterministic evaluation episodes at each evaluation point (SB3 `EvalCallback`); "
+        "final = the last evaluation.",
+        f"- Intervals: 95% percentile bootstrap over seeds (`scipy.stats.bootstrap`); IQM (rliable) only with "
+        f"≥ {MIN_RUNS_FOR_IQM} runs; probability of improvement from rliable.",
+        "",
+        "Package versions:",
+        "",
+    ]
+    for v in versions:
+        lines.append("- " + ", ".join(f"{k} {val}" for k, val in json.loads(v).items()))
+    lines.append("")
+
+    lines += ["## Final success rate", ""]
+    lines += ["| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |", "|---|---|---|---|---:|---:|---|---|---|"]
+    for task, groups in by_task.items():
+        for (algo, mode, reward), runs in sorted(groups.items()):
+            vals = [r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"])]
+            lo, hi = bootstrap_ci(vals)
+            iqm = iqm_with_ci(vals)
+            iqm_s = f"{iqm[0]:.2f} [{iqm[1]:.2f}, {iqm[2]:.2f}]" if iqm else "— (too few runs)"
+            lines.append(
+                f"| {task.split('/')[-1]} | {algo} | {mode} | {reward} | {len(vals)} | {np.mean(vals):.2f} | "
+                f"[{_fmt(lo)}, {_fmt(hi)}] | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
+            )
+    lines.append("")
+
+    lines += ["## Success against environment steps", ""]
+    for task, groups in by_task.items():
+        fig = plot_task(task, groups, out)
+        lines += [f"![{task}]({fig.name})", ""]
+
+    lines += ["## Ranking of action modes", ""]
+    for task, groups in by_task.items():
+        by_setting: dict[tuple[str, str], dict[str, list[float]]] = defaultdict(dict)
+        for (algo, mode, reward), runs in groups.items():
+            by_setting[(algo, reward)][mode] = [r["final_success_rate"] for r in runs]
+        for (algo, reward), modes in sorted(by_setting.items()):
+            if len(modes) < 2:
+                continue
+            ranked = sorted(modes.items(), key=lambda kv: -np.mean(kv[1]))
+            best_mode, best = ranked[0]
+            lines += [f"**{task.split('/')[-1]}**, {algo}, {reward} reward:", ""]
+            lines += ["| rank | action mode | mean final success | P(best > this) |", "|---:|---|---:|---:|"]
+            for i, (mode, vals) in enumerate(ranked, 1):
+                enough = len(vals) >= 2 and len(best) >= 2
+                poi = "—" if mode == best_mode else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
+                lines.append(f"| {i} | {mode} | {np.mean(vals):.2f} | {poi} |")
+            lines.append("")
+
+    if claims:
+        lines += ["## Against the design document's claims", ""]
+        lines += claims_section(rows, claims)
+
+    if dense_check:
+        from .sanity import dense_reward_check
+
+        tasks = sorted(by_task)
+        lines += ["## Dense-reward sanity check", ""]
+        lines += [
+            "For each task, goals from seeded resets and achieved goals sampled at distances from 0 to 20 "
+            "success thresholds, with the most and least favourable values of the other reward inputs "
+            "(grasped, gripper distance, action, drop). A dense reward is flagged if its best value outside "
+            "the success region reaches its best value inside it.",
+            "",
+            "| task | reward | max inside success | max outside success | optimum in success region | flag |",
+            "|---|---|---:|---:|---|---|",
+        ]
+        for task in tasks:
+            for reward in ("dense", "dense_penalized"):
+                c = dense_reward_check(task, reward)
+                lines.append(
+                    f"| {task.split('/')[-1]} | {reward} | {c.max_inside:.2f} | {c.max_outside:.2f} | "
+                    f"{'yes' if c.optimum_in_success else 'NO'} | {'**FLAG**' if c.flagged else 'ok'} |"
+                )
+        lines.append("")
+
+    path = out / "report.md"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
+    """Measured final success beside claimed numbers (``claims``: label -> spec)."""
+    lines = ["| run | claimed success (budget) | measured mean final success [95% CI] (budget, seeds) |", "|---|---|---|"]
+    for label, c in claims.items():
+        vals = [r["final_success_rate"] for r in rows
+                if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"] and r["task"] == c["task"]]
+        if not vals:
+            lines.append(f"| {label} | {c['claimed']} ({c['claimed_budget']}) | not run |")
+            continue
+        lo, hi = bootstrap_ci(vals)
+        budget = sorted({r["steps"] for r in rows if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"]})
+        lines.append(
+            f"| {label} | {c['claimed']} ({c['claimed_budget']}) | {np.mean(vals):.2f} [{_fmt(lo)}, {_fmt(hi)}] "
+            f"({', '.join(f'{b:,}' for b in budget)} steps, {len(vals)} seeds) |"
+        )
+    lines.append("")
+    return lines
+
+
+def main_command() -> str:
+    return shlex.join(["unified-manip", *sys.argv[1:]])
