@@ -55,7 +55,7 @@ def test_bad_input_is_one_line_and_exit_code_2():
 def test_speed_reports_env_and_raw_rates(tmp_path):
     out = tmp_path / "speed.json"
     run("speed", "--env", "UnifiedManip/Arm4Reach-v0", "--modes", "joint_position,ee_delta", "--steps", "200", "--repeats", "1", "--json", str(out))
-    rows = json.loads(out.read_text())
+    rows = json.loads(out.read_text())["modes"]
     assert [r["action_mode"] for r in rows] == ["joint_position", "ee_delta"]
     for r in rows:
         assert r["env_steps_per_s"] > 0 and r["raw_steps_per_s"] > 0

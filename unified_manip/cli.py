@@ -75,9 +75,31 @@ def cmd_speed(args: argparse.Namespace) -> int:
             f"{r.overhead_us:.0f}",
             rel,
         )
-    Console(width=args.width).print(table)
+    console = Console(width=args.width)
+    console.print(table)
+    document = {"modes": [r.as_dict() for r in results]}
+    ids = args.env or list(TASKS)
+    wrapped = [t for t in ids if TASKS[t].upstream_id]
+    if wrapped and not args.no_upstream:
+        up = Table(title="native mode against the upstream env, same actions, alternating blocks")
+        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream"):
+            up.add_column(col, justify="right")
+        rows = [speed.compare_upstream(t, steps=args.steps) for t in wrapped]
+        for r in rows:
+            up.add_row(r.task_id, r.upstream, f"{r.ours_steps_per_s:,.0f}", f"{r.upstream_steps_per_s:,.0f}", f"{r.ratio:.3f}")
+        console.print(up)
+        document["upstream"] = [r.as_dict() for r in rows]
+    if args.train:
+        tr = Table(title="SAC+HER training steps/s, native mode against the upstream env")
+        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream"):
+            tr.add_column(col, justify="right")
+        rows = [speed.train_speed(t, steps=args.train_steps) for t in args.train]
+        for r in rows:
+            tr.add_row(r.task_id, r.upstream, f"{r.ours_steps_per_s:,.1f}", f"{r.upstream_steps_per_s:,.1f}", f"{r.ratio:.3f}")
+        console.print(tr)
+        document["training"] = [r.as_dict() for r in rows]
     if args.json:
-        Path(args.json).write_text(json.dumps([r.as_dict() for r in results], indent=2))
+        Path(args.json).write_text(json.dumps(document, indent=2))
     return 0
 
 
@@ -198,6 +220,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--modes", type=lambda s: s.split(","), help="comma-separated action modes (default: all)")
     p.add_argument("--steps", type=_positive_int, default=2000, help="steps per measurement")
     p.add_argument("--repeats", type=_positive_int, default=3, help="measurements per figure (median)")
+    p.add_argument("--no-upstream", action="store_true", help="skip the comparison with wrapped upstream envs")
+    p.add_argument("--train", type=_task_ids, help="also time SAC+HER training on these IDs against their upstream envs")
+    p.add_argument("--train-steps", type=_positive_int, default=1500, help="training steps per timed round")
     p.add_argument("--json", help="also write the results to this JSON file")
     p.add_argument("--width", type=int, default=200)
     p.set_defaults(func=cmd_speed)

@@ -11,6 +11,7 @@ shared and noisy.
 
 from __future__ import annotations
 
+import statistics
 import time
 from dataclasses import asdict, dataclass
 
@@ -81,7 +82,6 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
 def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:
     """Measure every requested ID x supported mode; each figure is the median of
     ``repeats`` measurements, taken in rounds so that load spikes spread over modes."""
-    import statistics
     from tqdm import tqdm
 
     jobs = [
@@ -105,3 +105,93 @@ def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress
         )
         for (tid, mode), rs in samples.items()
     ]
+
+
+# ---------------------------------------------------------------------- against upstream
+@dataclass(frozen=True)
+class UpstreamResult:
+    task_id: str
+    upstream: str
+    ours_steps_per_s: float
+    upstream_steps_per_s: float
+
+    @property
+    def ratio(self) -> float:
+        return self.ours_steps_per_s / self.upstream_steps_per_s
+
+    def as_dict(self) -> dict:
+        return {**asdict(self), "ratio": self.ratio}
+
+
+def _step_block(env, actions, horizon: int) -> float:
+    """Steps per second over ``actions``, resets (every ``horizon`` steps) not timed."""
+    clock = time.perf_counter
+    spent, t_in_episode = 0.0, 0
+    for a in actions:
+        start = clock()
+        env.step(a)
+        spent += clock() - start
+        t_in_episode += 1
+        if t_in_episode == horizon:
+            env.reset()
+            t_in_episode = 0
+    return len(actions) / spent
+
+
+def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0) -> UpstreamResult:
+    """``native`` mode against the env it wraps (``TaskSpec.upstream_id``), in alternating
+    blocks with the same actions; the figure is the median of the per-round ratios."""
+    spec = TASKS[task_id]
+    if not spec.upstream_id:
+        raise ValueError(f"{task_id} wraps no Gymnasium env (TaskSpec.upstream_id is None)")
+    ours = gym.make(task_id, action_mode="native", reward_type="sparse", disable_env_checker=True)
+    theirs = gym.make(spec.upstream_id, disable_env_checker=True)
+    ours.reset(seed=seed)
+    theirs.reset(seed=seed)
+    rng = np.random.default_rng(seed)
+    per_round = max(steps // rounds, 1)
+    horizon = spec.max_episode_steps
+    warm = rng.uniform(-1, 1, size=(50,) + ours.action_space.shape).astype(np.float32)
+    _step_block(ours, warm, horizon)
+    _step_block(theirs, warm, horizon)
+    ours_rates, theirs_rates = [], []
+    for _ in range(rounds):
+        actions = rng.uniform(-1, 1, size=(per_round,) + ours.action_space.shape).astype(np.float32)
+        ours_rates.append(_step_block(ours, actions, horizon))
+        theirs_rates.append(_step_block(theirs, actions, horizon))
+    ours.close()
+    theirs.close()
+    ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
+    mid = statistics.median(ratios)
+    return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
+
+
+def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0) -> UpstreamResult:
+    """SAC+HER training steps/s on ``task_id`` (native, sparse) against the same script
+    on its upstream env, alternating, with the task's ``sac_her`` hyperparameters."""
+    import torch
+    from stable_baselines3 import SAC, HerReplayBuffer
+
+    from .hyperparams import RUN_KEYS, resolve
+
+    spec = TASKS[task_id]
+    if not spec.upstream_id:
+        raise ValueError(f"{task_id} wraps no Gymnasium env (TaskSpec.upstream_id is None)")
+    params = {k: v for k, v in resolve("sac_her", task_id).items() if k not in RUN_KEYS}
+    params["learning_starts"] = min(params.get("learning_starts", 100), steps // 3)
+    torch.set_num_threads(1)
+
+    def rate(make) -> float:
+        model = SAC(env=make(), replay_buffer_class=HerReplayBuffer, seed=seed, device="cpu", **params)
+        model.learn(total_timesteps=params["learning_starts"] + 100)  # warm-up: buffers, first updates
+        start = time.perf_counter()
+        model.learn(total_timesteps=steps, reset_num_timesteps=False)
+        return steps / (time.perf_counter() - start)
+
+    ours_rates, theirs_rates = [], []
+    for _ in range(rounds):
+        ours_rates.append(rate(lambda: gym.make(task_id, action_mode="native", reward_type="sparse")))
+        theirs_rates.append(rate(lambda: gym.make(spec.upstream_id)))
+    ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
+    mid = statistics.median(ratios)
+    return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
