@@ -656,6 +656,7 @@ def _register() -> None:
                 scripted_episodes=SCRIPTED_EPISODES,
                 stability_steps=STABILITY_STEPS,
                 upstream_id=f"robosuite:{name}",
+                make_upstream=partial(make_upstream, TASK_DEFS[name].env_name, "Panda", "native"),
             )
         )
 

@@ -55,9 +55,11 @@ class TaskSpec:
         render_fps: Frames per second of a rollout video.
         stability_steps: How many random-action steps the stability test plays in
             every action mode (CI time scales with it: lower it for slow simulators).
-        upstream_id: The Gymnasium ID of the env this task wraps (e.g.
-            ``"FetchPush-v4"``), so benchmarks can time the two side by side; ``None``
-            for tasks defined here.
+        upstream_id: A label of the env this task wraps (the Gymnasium ID, e.g.
+            ``"FetchPush-v4"``, or ``"robosuite:Lift"``), so benchmarks can time the two
+            side by side; ``None`` for tasks defined here.
+        make_upstream: Builds that env for the benchmarks (anything with ``reset()``
+            and ``step(action)``); ``None`` means ``gym.make(upstream_id)``.
     """
 
     name: str
@@ -77,6 +79,15 @@ class TaskSpec:
     render_fps: int = 25
     stability_steps: int = 10_000
     upstream_id: str | None = None
+    make_upstream: Callable[[], object] | None = None
+
+    def build_upstream(self):
+        """The wrapped upstream env, for side-by-side benchmarks."""
+        if self.make_upstream is not None:
+            return self.make_upstream()
+        if self.upstream_id is None:
+            raise ValueError(f"{self.id} wraps no upstream env")
+        return gym.make(self.upstream_id, disable_env_checker=True)
 
     def __post_init__(self) -> None:
         if self.kind not in TASK_KINDS:

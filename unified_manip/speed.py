@@ -142,12 +142,10 @@ def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int
     """``native`` mode against the env it wraps (``TaskSpec.upstream_id``), in alternating
     blocks with the same actions; the figure is the median of the per-round ratios."""
     spec = TASKS[task_id]
-    if not spec.upstream_id:
-        raise ValueError(f"{task_id} wraps no Gymnasium env (TaskSpec.upstream_id is None)")
     ours = gym.make(task_id, action_mode="native", reward_type="sparse", disable_env_checker=True)
-    theirs = gym.make(spec.upstream_id, disable_env_checker=True)
+    theirs = spec.build_upstream()
     ours.reset(seed=seed)
-    theirs.reset(seed=seed)
+    theirs.reset()
     rng = np.random.default_rng(seed)
     per_round = max(steps // rounds, 1)
     horizon = spec.max_episode_steps
@@ -168,7 +166,8 @@ def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int
 
 def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0) -> UpstreamResult:
     """SAC+HER training steps/s on ``task_id`` (native, sparse) against the same script
-    on its upstream env, alternating, with the task's ``sac_her`` hyperparameters."""
+    on its upstream env (which must be a Gymnasium goal env, as Fetch's are),
+    alternating, with the task's ``sac_her`` hyperparameters."""
     import torch
     from stable_baselines3 import SAC, HerReplayBuffer
 
@@ -191,7 +190,7 @@ def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0)
     ours_rates, theirs_rates = [], []
     for _ in range(rounds):
         ours_rates.append(rate(lambda: gym.make(task_id, action_mode="native", reward_type="sparse")))
-        theirs_rates.append(rate(lambda: gym.make(spec.upstream_id)))
+        theirs_rates.append(rate(spec.build_upstream))
     ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
     mid = statistics.median(ratios)
     return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
