@@ -75,6 +75,12 @@ MAX_VELOCITY = 1.0
 MAX_LEAD = 0.1
 #: Grip-site displacement at |a| = 1 in ``ee_delta``, m per step (as OSC_POSE's 5 cm).
 EE_STEP = 0.05
+#: ee_delta IK: weight of the held gripper orientation against position, and the
+#: position residual, m, beyond which the orientation yields (a second solve with
+#: ``EE_YIELD_ORIENTATION_COST``) so the arm can tilt the gripper to reach further.
+EE_ORIENTATION_COST = 0.3
+EE_YIELD_RESIDUAL = 0.005
+EE_YIELD_ORIENTATION_COST = 0.01
 #: Command range of joints without limits (Kinova3's continuous joints), rad.
 UNLIMITED_RANGE = (-math.pi, math.pi)
 
@@ -262,7 +268,8 @@ class RobosuiteBackend(Backend):
         self._mid = 0.5 * (self.joints.upper + self.joints.lower)
         self._half = 0.5 * (self.joints.upper - self.joints.lower)
         if self.mode == "ee_delta":
-            self.ik = MinkIK(self.model, self.joints, orientation_cost=0.3, iterations=2)
+            self.ik = MinkIK(self.model, self.joints, orientation_cost=EE_ORIENTATION_COST, iterations=2)
+            self.ik_yield = MinkIK(self.model, self.joints, orientation_cost=EE_YIELD_ORIENTATION_COST, iterations=2)
         self._rotation = np.eye(3)
         self._target = np.zeros(n)
         self._goal = np.zeros(0)
@@ -327,6 +334,8 @@ class RobosuiteBackend(Backend):
             else:  # ee_delta
                 goal = self.data.site_xpos[self._grip_site] + arm * EE_STEP
                 q_arm, residual, limit_active = self.ik.solve(self.data.qpos, goal, self._rotation)
+                if residual > EE_YIELD_RESIDUAL:  # out of reach holding the orientation: tilt
+                    q_arm, residual, limit_active = self.ik_yield.solve(self.data.qpos, goal, self._rotation)
                 command[:-1] = q_arm
                 diagnostics = {"ik_residual": residual, "ik_limit_active": limit_active}
         before = bad_state_warnings(self.data)
@@ -446,8 +455,41 @@ def lift_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     return _pick_and_carry(obs)
 
 
+#: Height of the can's centre above the goal while carried, m (clears the bins' walls).
+CAN_CARRY = 0.13
+
+
 def can_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
-    return _pick_and_carry(obs, lift_first=0.09, release=True)
+    """Grasp the can from above, lift it over the bins' walls, carry it at a moderate
+    speed (it swings in the fingers), lower it to 3 cm above the goal, let go, back up."""
+    o = obs["observation"]
+    eef = o[EEF]
+    can = obs["achieved_goal"]
+    goal = obs["desired_goal"]
+    to_can = can - eef
+    to_goal = goal - can
+    opening = o[46] - o[47]  # Panda finger opening, m (0.08 open, ~0.05 on the can)
+    if np.linalg.norm(to_goal[:2]) < 0.045 and can[2] < goal[2] + 0.07:  # low over the goal: let go
+        return np.array([0.0, 0.0, 0.5 if opening > 0.07 else 0.0, 1.0])  # back up once open
+    closing_speed = abs(o[48] - o[49])  # m/s
+    near = np.linalg.norm(to_can[:2]) < 0.04 and abs(to_can[2]) < 0.05
+    if near and 0.03 < opening < 0.07:  # closing on, or holding, the can
+        if closing_speed > 0.02:  # still closing: wait
+            return np.array([0.0, 0.0, 0.0, -1.0])
+        carry_z = goal[2] + CAN_CARRY
+        if np.linalg.norm(to_goal[:2]) > 0.02:
+            if can[2] < carry_z - 0.03:  # up first, then across
+                move = np.array([0.3 * to_goal[0], 0.3 * to_goal[1], carry_z + 0.02 - can[2]])
+            else:
+                move = np.array([to_goal[0], to_goal[1], carry_z - can[2]])
+            return np.append(_toward(move, 10.0) * 0.6, -1.0)
+        return np.append(_toward(to_goal, 10.0) * 0.6, -1.0)
+    xy = np.linalg.norm(to_can[:2])
+    if xy < 0.015 and abs(to_can[2]) < 0.025 and opening >= 0.07:  # in place: close
+        return np.array([0.0, 0.0, 0.0, -1.0])
+    if xy > 0.01:  # line up above the can, open
+        return np.append(_toward(to_can + np.array([0.0, 0.0, 0.08])), 1.0)
+    return np.append(_toward(to_can), 1.0)
 
 
 def _scripted(policy: Callable[[dict[str, np.ndarray]], np.ndarray]):
@@ -475,7 +517,10 @@ mode but native the last entry commands the gripper, -1 closed, +1 open):
                     robosuite.make's observations and reward (``info["native_reward"]``).
     ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by
                     mink IK on the arm joints only (initial gripper orientation held as
-                    a soft preference), sent as absolute targets to robosuite's
+                    a soft preference, cost 0.3; where that leaves more than 5 mm of
+                    position error the step is re-solved with orientation cost 0.01, so
+                    the gripper tilts to reach further, e.g. PickPlaceCan's far bin),
+                    sent as absolute targets to robosuite's
                     JOINT_POSITION controller (kp 150, critically damped, mass-matrix
                     and gravity compensated). ``ik_residual`` (m) and ``ik_limit_active``
                     go to ``info``.
@@ -564,9 +609,19 @@ the eef frame: position (3, m) and quaternion (4).
 Goal (3,): achieved = can centre, desired = goal point, m.
 
 Native success (robosuite): the can's centre inside its quadrant, between the bin
-floor and 10 cm above it. The goal keeps 5 cm from the walls and its z ball stays in
-(0.80, 0.90), so is_success implies native success; native success also counts any
-other point of the quadrant.
+floor and 10 cm above it, and the eef more than about 4.2 cm from the can (robosuite's
+r_reach < 0.6: the can has been let go). The goal keeps 5 cm from the walls and its z
+ball stays in (0.80, 0.90), so once the can is released, is_success implies native
+success; native success also counts any other point of the quadrant. Difference by
+design: is_success does not require letting go (a can held within 5 cm of the goal
+counts).
+
+Reach: the quadrant is the far one from the robot (Panda base at (-0.56, 0)); most of
+it is out of reach with the gripper pointing straight down, so ee_delta tilts the
+gripper there (see ee_delta below). Even tilted, the Panda cannot carry the can to the
+goals of the far corner (x > ~0.22 and y > ~0.45 m, more than ~0.91 m from the base in
+x-y): the scripted ee_delta policy fails there (about 6% of goals). The goal
+distribution is left as is: those goals are in the bin, and other robots reach further.
 
 {_MODES}
 {_OPTIONS}
@@ -606,8 +661,8 @@ The door frame is placed at robosuite's randomised position. Goal: a hinge angle
 150 steps of 50 ms.
 
 {_OBS}
-Object state (14): door position (3, m), handle position (3, m), door to eef (3, m),
-handle to eef (3, m), hinge angle (rad), handle (latch) angle (rad).
+Object state (14): door position (3, m), handle position (3, m), hinge angle (rad),
+door - eef (3, m), handle - eef (3, m), handle (latch) angle (rad).
 Goal (1,): achieved = hinge angle, desired = target angle, rad.
 
 Native success (robosuite): hinge angle > 0.3 rad. Every goal is at least 0.35 rad,
@@ -632,9 +687,7 @@ def _register() -> None:
         # name, kind, goal_dim, steps, threshold, doc, policy, min success, episodes
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
         ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, None, None),
-        # The can policy is reported only: it reaches ~30% (the far quadrant is at the
-        # edge of the Panda's pointing-down workspace); see the family's notes.
-        ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, None),
+        ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
         ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
         ("Door", "push", 1, 150, 0.05, DOOR_DOC, None, None),
     )

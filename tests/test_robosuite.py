@@ -127,21 +127,26 @@ def test_camera_obs_image_passes_checkers():
 
 
 def test_success_implies_native_success_on_scripted_episodes():
-    """Scripted episodes with the default goal distribution: is_success => native success."""
-    for task_id, episodes in (("UnifiedManip/Lift-v0", 4), ("UnifiedManip/PickPlaceCan-v0", 4)):
+    """Scripted episodes with the default goal distribution: is_success => native success.
+
+    Lift: at every step. PickPlaceCan: at the end of the episode, once the can has been
+    let go (robosuite's native success also requires the gripper away from the can;
+    documented in the task doc)."""
+    for task_id, every_step in (("UnifiedManip/Lift-v0", True), ("UnifiedManip/PickPlaceCan-v0", False)):
         spec = unified_manip.TASKS[task_id]
         env = gym.make(task_id, action_mode="ee_delta")
         policy = spec.scripted_policy("ee_delta")
         successes = 0
-        for seed in range(episodes):
+        for seed in range(4):
             obs, info = env.reset(seed=2000 + seed)
             for _ in range(spec.max_episode_steps):
                 obs, _, _, _, info = env.step(policy(obs))
-                if info["is_success"]:
-                    successes += 1
+                if every_step and info["is_success"]:
                     assert info["native_success"] == 1.0
-        if task_id.endswith("Lift-v0"):
-            assert successes > 0
+            if info["is_success"]:
+                successes += 1
+                assert info["native_success"] == 1.0
+        assert successes > 0
 
 
 def test_nothing_written_to_home_or_site_packages(tmp_path):
