@@ -111,6 +111,16 @@ def _modified_model(path: str, initial_qpos: np.ndarray, width: int, height: int
     return model
 
 
+class FixedRotation:
+    """The IK's target rotation: always the grip site's initial one (a picklable callable)."""
+
+    def __init__(self, rotation: np.ndarray) -> None:
+        self.rotation = rotation
+
+    def __call__(self, target: np.ndarray) -> np.ndarray:
+        return self.rotation
+
+
 class FetchBackend(Backend):
     """One Fetch task under one action mode (see the module docstring)."""
 
@@ -146,7 +156,7 @@ class FetchBackend(Backend):
                 gains=GAINS,
             )
             rotation = up.data.site_xmat[self.rig.site_id].reshape(3, 3).copy()  # pointing down
-            self.control = make_mujoco_control(self.rig, self.mode, lambda target: rotation)
+            self.control = make_mujoco_control(self.rig, self.mode, FixedRotation(rotation))
             self.action_dim = self.control.action_dim
         else:
             self.action_dim = 4
@@ -322,8 +332,10 @@ def _push(obs: dict[str, np.ndarray], speed: float, stop: float, slowdown: float
         return np.append(_toward(behind - grip, 10.0), -1.0).astype(np.float32)
     if grip[2] < obj[2] + 0.045:  # rise clear of the object before moving across
         return np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)
-    above = np.append(behind[:2], obj[2] + 0.06)
-    return np.append(_toward(above - grip, 10.0), -1.0).astype(np.float32)
+    above = np.append(behind[:2], obj[2] + 0.07)
+    move = _toward(above - grip, 10.0)
+    move[:2] *= 0.7  # not faster than the arm follows without dipping
+    return np.append(move, -1.0).astype(np.float32)
 
 
 def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
