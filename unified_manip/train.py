@@ -182,6 +182,13 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
         def _on_step(self) -> bool:
             return True
 
+        def _on_training_end(self) -> None:
+            # Off-policy SB3 dumps logs only every log_interval episodes; make sure the
+            # last success rate of a run reaches TensorBoard whatever the algorithm.
+            if len(self.model.ep_success_buffer) > 0:
+                self.logger.record("rollout/success_rate", float(np.mean(self.model.ep_success_buffer)))
+                self.logger.dump(self.num_timesteps)
+
     class Checkpoint(BaseCallback):
         """Saves a resumable checkpoint every ``freq`` env steps (atomically)."""
 
