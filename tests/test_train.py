@@ -226,7 +226,7 @@ def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
     for algo in ALGOS:
         text = (ROOT / "baselines" / f"{algo}.yaml").read_text()
         assert "Source:" in text  # each file records where its values come from
-        assert "dict(" not in text and "lambda:" not in text and "!!python" not in text
+        assert "dict(" not in text and "lambda " not in text and "!!python" not in text
         params = resolve(algo, "UnifiedManip/Arm4PickAndPlace-v0")
         assert params["policy"] == "MultiInputPolicy"
     # The anchor shares the large-network entry between Fetch and arm object tasks.

@@ -190,7 +190,11 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
                 self.logger.dump(self.num_timesteps)
 
     class Checkpoint(BaseCallback):
-        """Saves a resumable checkpoint every ``freq`` env steps (atomically)."""
+        """Saves a resumable checkpoint every ``freq`` env steps (atomically).
+
+        It saves at the end of a rollout, where the replay buffer holds every transition
+        counted in ``num_timesteps`` (during ``on_step`` the last one is not stored yet).
+        """
 
         def __init__(self, freq: int):
             super().__init__()
@@ -201,10 +205,12 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
             self.last = self.num_timesteps
 
         def _on_step(self) -> bool:
+            return True
+
+        def _on_rollout_end(self) -> None:
             if self.num_timesteps - self.last >= self.freq:
                 save_checkpoint(self.model, run_dir, algo.off_policy)
                 self.last = self.num_timesteps
-            return True
 
     class Progress(BaseCallback):
         """A bar with steps, steps/s, ETA and the latest success rate."""
