@@ -76,7 +76,9 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
     finally:
         del backend.physics_step
         env.close()
-    return SpeedResult(task_id, action_mode, steps / total, steps / spent[0])
+    # A mode that steps the physics inside upstream code (e.g. Fetch's native mocap
+    # control) never calls physics_step: its raw rate is unknown here (see upstream table).
+    return SpeedResult(task_id, action_mode, steps / total, steps / spent[0] if spent[0] > 0 else float("nan"))
 
 
 def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:
