@@ -126,8 +126,14 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
 
     run_dir = tmp_path / "run"
     args = train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 1000, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
-    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # The child inherits this worker's signal dispositions; SIG_IGN for SIGINT (as after
+    # a Ray test, or in a background job) must not stop train from handling Ctrl-C.
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     checkpoint = _wait_for_checkpoint(run_dir, 400, proc)
     proc.send_signal(signal.SIGKILL if how == "kill" else signal.SIGINT)
     out, err = proc.communicate(timeout=300)

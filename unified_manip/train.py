@@ -349,7 +349,10 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
         callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress)
+        # Ctrl-C and kill both end in a checkpoint. SIGINT is set explicitly: a process
+        # started in the background (or by a parent that ignores it) inherits SIG_IGN.
         previous_handler = signal.signal(signal.SIGTERM, _raise_interrupt)
+        previous_int = signal.signal(signal.SIGINT, signal.default_int_handler)
         try:
             if remaining > 0:
                 model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
@@ -365,6 +368,7 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
             raise
         finally:
             signal.signal(signal.SIGTERM, previous_handler)
+            signal.signal(signal.SIGINT, previous_int)
         tmp = run_dir / "final_model.tmp.zip"
         model.save(tmp)
         os.replace(tmp, run_dir / "final_model.zip")
