@@ -50,12 +50,3 @@ def unpickle_upstream(snapshot: tuple[type, dict[str, Any], dict[str, str]]) -> 
         setattr(env, key, importlib.import_module(name))
     env.mujoco_renderer = None  # the backends render with their own renderer
     return env
-
-
-def make_renderer(model, data, camera_config: dict, width: int, height: int):
-    """gymnasium's MuJoCo renderer with upstream's default camera."""
-    from gymnasium.envs.mujoco.mujoco_rendering import MujocoRenderer
-
-    model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
-    model.vis.global_.offheight = max(model.vis.global_.offheight, height)
-    return MujocoRenderer(model, data, camera_config, width=width, height=height)

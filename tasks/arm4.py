@@ -25,6 +25,7 @@ from unified_manip.backend import Backend
 from unified_manip.config import ACTION_MODES, EnvConfig
 from unified_manip.control import ArmGains, ArmRig, bad_state_warnings, make_mujoco_control
 from unified_manip.registry import TaskSpec, register_task
+from unified_manip.rendering import LazyRenderer
 
 ASSET = Path(__file__).parent / "assets" / "arm4.xml"
 
@@ -124,8 +125,7 @@ class Arm4Backend(Backend):
             self._finger_geoms = (m.geom("finger_l_geom").id, m.geom("finger_r_geom").id)
         self._goal = np.zeros(3)
         self._unstable = False
-        self._render_cfg = (config.render_mode, config.render_width, config.render_height)
-        self._renderer = None
+        self._renderer = LazyRenderer(config.render_mode, config.render_width, config.render_height, camera_name="front")
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:
@@ -210,22 +210,10 @@ class Arm4Backend(Backend):
 
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:
-        mode, width, height = self._render_cfg
-        if self._renderer is None:
-            from gymnasium.envs.mujoco.mujoco_rendering import MujocoRenderer
-
-            self._renderer = MujocoRenderer(self.model, self.data, width=width, height=height, camera_name="front")
-        return self._renderer.render(mode)
+        return self._renderer.render(self.model, self.data)
 
     def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = self.__dict__.copy()
-        state["_renderer"] = None
-        return state
+        self._renderer.close()
 
 
 # ------------------------------------------------------------------ scripted policies

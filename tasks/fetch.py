@@ -40,8 +40,9 @@ from unified_manip.backend import Backend
 from unified_manip.config import ACTION_MODES, EnvConfig
 from unified_manip.control import ArmGains, ArmRig, bad_state_warnings, make_mujoco_control
 from unified_manip.registry import TaskSpec, register_task
+from unified_manip.rendering import LazyRenderer
 
-from ._upstream import make_renderer, pickle_upstream, unpickle_upstream, upstream_reset
+from ._upstream import pickle_upstream, unpickle_upstream, upstream_reset
 
 ARM_JOINTS: tuple[str, ...] = tuple(
     f"robot0:{name}_joint"
@@ -168,9 +169,7 @@ class FetchBackend(Backend):
             self._finger_geoms = tuple(m.geom(g).id for g in FINGER_GEOMS)
         self._obs: dict[str, np.ndarray] | None = None
         self._unstable = False
-        self._render_mode = config.render_mode
-        self._render_size = (width, height)
-        self._renderer = None
+        self._renderer = LazyRenderer(config.render_mode, width, height, camera_config=DEFAULT_CAMERA_CONFIG)
 
     @property
     def model(self) -> mujoco.MjModel:
@@ -248,19 +247,14 @@ class FetchBackend(Backend):
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:
         up = self._up
-        if self._renderer is None:
-            self._renderer = make_renderer(up.model, up.data, DEFAULT_CAMERA_CONFIG, *self._render_size)
         up._render_callback()  # upstream: move the target marker to the goal
-        return self._renderer.render(self._render_mode)
+        return self._renderer.render(up.model, up.data)
 
     def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+        self._renderer.close()
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        state["_renderer"] = None
         state["_up"] = pickle_upstream(self._up)
         return state
 

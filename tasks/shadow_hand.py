@@ -32,7 +32,9 @@ from unified_manip.config import EnvConfig
 from unified_manip.control import bad_state_warnings
 from unified_manip.registry import TaskSpec, register_task, euclidean
 
-from ._upstream import make_renderer, pickle_upstream, unpickle_upstream, upstream_reset
+from unified_manip.rendering import LazyRenderer
+
+from ._upstream import pickle_upstream, unpickle_upstream, upstream_reset
 
 ACTION_MODES = ("joint_delta", "native")
 
@@ -89,9 +91,7 @@ class HandBackend(Backend):
             self._obj_q = int(m.jnt_qposadr[m.joint("object:joint").id])
         self._obs: dict[str, np.ndarray] | None = None
         self._unstable = False
-        self._render_mode = config.render_mode
-        self._render_size = (width, height)
-        self._renderer = None
+        self._renderer = LazyRenderer(config.render_mode, width, height, camera_config=DEFAULT_CAMERA_CONFIG)
 
     @property
     def model(self):
@@ -149,19 +149,14 @@ class HandBackend(Backend):
 
     def render(self) -> np.ndarray | None:
         up = self._up
-        if self._renderer is None:
-            self._renderer = make_renderer(up.model, up.data, DEFAULT_CAMERA_CONFIG, *self._render_size)
         up._render_callback()  # upstream: show the goal
-        return self._renderer.render(self._render_mode)
+        return self._renderer.render(up.model, up.data)
 
     def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+        self._renderer.close()
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        state["_renderer"] = None
         state["_up"] = pickle_upstream(self._up)
         return state
 
