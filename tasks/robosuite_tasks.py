@@ -136,6 +136,9 @@ class RobosuiteTask:
         sample_goal: ``(upstream env, np_random) -> desired goal``, called after reset.
         object_pos: The object the gripper must reach (for ``grip_to_object``).
         grasp_object: The robosuite object whose grasp ``grasped`` reports, or None.
+        ee_turn: The gripper orientation ``ee_delta`` holds: the grip site's orientation
+            at reset turned by this rotation (a rotation vector in the world frame, rad).
+            Zero holds the reset orientation (gripper pointing down).
     """
 
     env_name: str
@@ -143,6 +146,18 @@ class RobosuiteTask:
     sample_goal: Callable[[Any, np.random.Generator], np.ndarray]
     object_pos: Callable[[Any], np.ndarray]
     grasp_object: Callable[[Any], Any] | None
+    ee_turn: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def held_rotation(self, reset_rotation: np.ndarray) -> np.ndarray:
+        """The grip-site rotation matrix ``ee_delta`` holds, given the one at reset."""
+        turn = np.asarray(self.ee_turn, dtype=np.float64)
+        angle = float(np.linalg.norm(turn))
+        if angle == 0.0:
+            return reset_rotation.copy()
+        quat, mat = np.zeros(4), np.zeros(9)
+        mujoco.mju_axisAngle2Quat(quat, turn / angle, angle)
+        mujoco.mju_quat2Mat(mat, quat)
+        return mat.reshape(3, 3) @ reset_rotation
 
 
 def _body_pos(attr: str):
@@ -232,7 +247,9 @@ TASK_DEFS: dict[str, RobosuiteTask] = {
     "NutAssemblyRound": RobosuiteTask(
         "NutAssemblyRound", _obj_body_pos("RoundNut"), _nut_goal, _obj_body_pos("RoundNut"), lambda up: up.nuts[1]
     ),
-    "Door": RobosuiteTask("Door", _door_angle, _door_goal, _door_handle, None),
+    # The gripper points at the door (a quarter turn about world x), its fingers one above
+    # the other: pointing down, the hand hits the door panel and the handle's base.
+    "Door": RobosuiteTask("Door", _door_angle, _door_goal, _door_handle, None, ee_turn=(-math.pi / 2, 0.0, 0.0)),
 }
 
 
@@ -306,7 +323,7 @@ class RobosuiteBackend(Backend):
             c.action_scale = None
         q = self.data.qpos[self.joints.qpos_adr]
         self._target = q.copy()
-        self._rotation = self.data.site_xmat[self._grip_site].reshape(3, 3).copy()
+        self._rotation = self.task.held_rotation(self.data.site_xmat[self._grip_site].reshape(3, 3))
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         self._log.append(action.copy())
@@ -492,6 +509,80 @@ def can_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     return np.append(_toward(to_can), 1.0)
 
 
+#: Door geometry (robosuite's door_lock.xml) in the door body's frame, m: the latch
+#: joint's anchor (its axis is the door's y) and the hinge's (axis z); the handle site
+#: in the latch's frame. The handle is a lever along the latch's x, 15 cm long, 3 cm
+#: thick (y, centred 10 cm in front of the door) and 4 cm high; a positive latch angle
+#: turns it down.
+DOOR_LATCH = np.array([-0.175, 0.0, -0.025])
+DOOR_HINGE = np.array([0.255, 0.0, 0.0])
+DOOR_HANDLE_SITE = np.array([0.125, -0.10, 0.0])
+#: Door object state (after the proprio): door body position, handle site, hinge angle, latch angle.
+DOOR_POS, DOOR_HANDLE = slice(PROPRIO, PROPRIO + 3), slice(PROPRIO + 3, PROPRIO + 6)
+DOOR_ANGLE, DOOR_LATCH_ANGLE = PROPRIO + 6, PROPRIO + 13
+#: Where the grip site presses the lever, in the latch's frame, m: 12 cm out along the
+#: lever, fingertips just past its back face (the hand clears the handle's base), the
+#: closed fingers' lower edge on its top face.
+DOOR_PRESS = np.array([0.12, -0.095, 0.05])
+#: Latch angles, rad: how far ahead of the lever the press target leads, the angle it
+#: presses towards, and the angle beyond which the latch clears the frame and the
+#: policy pulls (the latch_joint's range ends at 1.57).
+DOOR_LEAD, DOOR_HOLD, DOOR_PULL = 0.4, 1.6, 1.3
+#: The pull aims this far past the goal angle (the door lags the gripper), rad.
+DOOR_OVERSHOOT = 0.03
+
+
+def _latch_turn(v: np.ndarray, angle: float) -> np.ndarray:
+    """``v`` (latch frame) turned by the latch angle about the latch's y axis."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2]])
+
+
+def _yaw(angle: float) -> np.ndarray:
+    """The rotation matrix of ``angle`` about z."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def door_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
+    """Press the lever down with the closed fingertips, then pull the door open by it.
+
+    Needs ``ee_delta``'s Door orientation (gripper pointing at the door, fingers one
+    above the other). Everything is computed in the door's frame, whose yaw follows from
+    the door, handle and latch angle of the observation: from the front, rise above
+    the press point, descend onto the lever and follow it down along its arc (the target
+    leads the lever by ``DOOR_LEAD``); once the latch is past ``DOOR_PULL``, keep
+    pressing and swing the press point about the hinge towards the goal angle (friction
+    on the lever drags the door)."""
+    o = obs["observation"]
+    door, eef = o[DOOR_POS], o[EEF]
+    latch, angle, goal = float(o[DOOR_LATCH_ANGLE]), float(o[DOOR_ANGLE]), float(obs["desired_goal"][0])
+    handle_local = DOOR_LATCH + _latch_turn(DOOR_HANDLE_SITE, latch)
+    handle = o[DOOR_HANDLE] - door
+    rot = _yaw(math.atan2(handle[1], handle[0]) - math.atan2(handle_local[1], handle_local[0]))
+    grip = rot.T @ (eef - door)  # grip site in the door's frame
+
+    def press(latch_angle: float) -> np.ndarray:
+        return DOOR_LATCH + _latch_turn(DOOR_PRESS, latch_angle)
+
+    if latch < 0.15:  # lever up: get above the press point, then descend onto it
+        point = press(0.0)
+        above = point + np.array([0.0, 0.0, 0.04])
+        if np.linalg.norm(point[:2] - grip[:2]) > 0.015:
+            target = above
+            if grip[2] < above[2] - 0.02:  # rise first, staying 6 cm in front of the lever
+                step = 0.3 * (above - grip)
+                target = np.array([grip[0] + step[0], min(grip[1] + step[1], above[1] - 0.06), above[2]])
+        else:
+            target = press(latch + DOOR_LEAD)
+    else:
+        target = press(min(latch + DOOR_LEAD, DOOR_HOLD))
+        if latch > DOOR_PULL:  # unlatched: swing the press point about the hinge
+            swing = float(np.clip(goal + DOOR_OVERSHOOT - angle, -0.1, 0.1))
+            target = DOOR_HINGE + _yaw(swing) @ (target - DOOR_HINGE)
+    return np.append(_toward(rot @ (target - grip)), -1.0)
+
+
 def _scripted(policy: Callable[[dict[str, np.ndarray]], np.ndarray]):
     def factory(action_mode: str):
         if action_mode != "ee_delta":
@@ -516,8 +607,9 @@ mode but native the last entry commands the gripper, -1 closed, +1 open):
                     with robosuite's sign (-1 open, +1 closed). Same seed and actions give
                     robosuite.make's observations and reward (``info["native_reward"]``).
     ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by
-                    mink IK on the arm joints only (initial gripper orientation held as
-                    a soft preference, cost 0.3; where that leaves more than 5 mm of
+                    mink IK on the arm joints only (gripper orientation at reset held
+                    as a soft preference, cost 0.3; on Door it is turned to point at
+                    the door, see the task doc; where that leaves more than 5 mm of
                     position error the step is re-solved with orientation cost 0.01, so
                     the gripper tilts to reach further, e.g. PickPlaceCan's far bin),
                     sent as absolute targets to robosuite's
@@ -668,6 +760,15 @@ Goal (1,): achieved = hinge angle, desired = target angle, rad.
 Native success (robosuite): hinge angle > 0.3 rad. Every goal is at least 0.35 rad,
 so is_success implies native success.
 
+The door opens towards the robot (+y) only once the latch is turned down past ~1.2 rad
+(the latch_joint's range is [-1.57, 1.57]) and must be held there until the latch
+clears the frame. ee_delta holds the gripper pointing at the door (-y) with its
+fingers one above the other, instead of pointing down: a downward hand hits the door
+panel and the handle's base. The scripted ee_delta policy closes the fingers, comes
+over the lever from the front, presses it down along its arc with the fingertips to
+~1.4 rad, then swings the pressed point about the hinge to the goal angle (friction on
+the lever drags the door).
+
 {_MODES}
 {_OPTIONS}
 {_INFO}
@@ -689,7 +790,7 @@ def _register() -> None:
         ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, None, None),
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
         ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
-        ("Door", "push", 1, 150, 0.05, DOOR_DOC, None, None),
+        ("Door", "push", 1, 150, 0.05, DOOR_DOC, door_policy, 0.8),
     )
     for name, kind, goal_dim, steps, threshold, doc, policy, min_success in tasks:
         register_task(
