@@ -103,6 +103,12 @@ def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
     assert (run_dir / "best" / "best_model.zip").is_file()
     assert (run_dir / "final_model.zip").is_file()
     assert (run_dir / "replay_buffer.pkl").is_file() == ALGOS[algo].off_policy
+    # The HER entries normalise observations (as the zoo does): the statistics travel
+    # with the final and the best model.
+    normalized = bool(config["hyperparameters"].get("normalize"))
+    assert normalized == ALGOS[algo].her
+    assert (run_dir / "vecnormalize.pkl").is_file() == normalized
+    assert (run_dir / "best" / "vecnormalize.pkl").is_file() == normalized
     assert "rollout/success_rate" in tb_tags(run_dir)  # PPO too, which SB3 alone skips
 
 
@@ -152,6 +158,10 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     buffer = load_from_pkl(run_dir / "replay_buffer.pkl")
     # Restored transitions up to the checkpoint plus the ones collected after it.
     assert buffer.size() * buffer.n_envs == 1000
+    # The observation statistics were restored too: they have seen every step, not
+    # only the ones after the resume.
+    stats = load_from_pkl(run_dir / "vecnormalize.pkl")
+    assert stats.obs_rms["observation"].count >= 1000
     # A second run of the same command leaves the finished run alone.
     again = cli(*args)
     assert "already finished at 1000 steps" in again.stdout

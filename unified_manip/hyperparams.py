@@ -28,6 +28,7 @@ RUN_KEYS: dict[str, type] = {
     "n_eval_episodes": int,  # episodes per evaluation
     "checkpoint_freq": int,  # env steps between resumable checkpoints
     "action_noise_std": float,  # TD3: std of Gaussian exploration noise, in action units
+    "normalize": bool,  # running mean/std observation normalisation (VecNormalize), as the zoo's normalize
 }
 
 #: Where the YAML files live: the repository's ``baselines/`` (an editable install or a

@@ -8,9 +8,11 @@ A run directory holds everything about one run::
     tb/                  TensorBoard events
     eval/evaluations.npz periodic evaluation (EvalCallback): returns and successes
     best/best_model.zip  the best evaluated model
-    checkpoints/         the latest resumable checkpoint (model + replay buffer)
+    checkpoints/         the latest resumable checkpoint (model + replay buffer + obs statistics)
     final_model.zip      written when the run finishes
     replay_buffer.pkl    off-policy algorithms, written when the run finishes
+    vecnormalize.pkl     observation statistics of runs with ``normalize: true`` (final;
+                         ``best/vecnormalize.pkl`` belongs to the best model)
 
 Running the same command on an unfinished run directory resumes from its latest
 checkpoint (step count, model and replay buffer); a finished one is left alone. Every
@@ -230,9 +232,19 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
         def _on_training_end(self) -> None:
             self.bar.close()
 
+    class SaveBestStats(BaseCallback):
+        """Keeps ``best/vecnormalize.pkl`` in step with ``best/best_model.zip``."""
+
+        def _on_step(self) -> bool:
+            if self.model.get_vec_normalize_env() is not None:
+                (run_dir / "best").mkdir(parents=True, exist_ok=True)
+                _save_stats(self.model, run_dir / "best" / "vecnormalize.pkl")
+            return True
+
     n_envs = eval_env.num_envs if eval_env is not None else 1
     evaluation = EvalCallback(
         eval_env,
+        callback_on_new_best=SaveBestStats(),
         eval_freq=max(int(params.get("eval_freq", 10_000)) // max(n_envs, 1), 1),
         n_eval_episodes=int(params.get("n_eval_episodes", 20)),
         log_path=str(run_dir / "eval"),
@@ -260,12 +272,42 @@ def save_checkpoint(model, run_dir: Path, off_policy: bool) -> None:
         model.save_replay_buffer(tmp)
         os.replace(tmp, buf_path)
         entry["replay_buffer"] = buf_path.name
+    if model.get_vec_normalize_env() is not None:
+        stats_path = ckpt / f"vecnormalize_{step}.pkl"
+        _save_stats(model, stats_path)
+        entry["vecnormalize"] = stats_path.name
     previous = latest_checkpoint(run_dir)
     write_atomic(ckpt / "latest.json", json.dumps(entry))
     if previous:  # keep only the newest checkpoint
-        for key in ("model", "replay_buffer"):
+        for key in ("model", "replay_buffer", "vecnormalize"):
             if key in previous and previous[key] != entry.get(key):
                 (ckpt / previous[key]).unlink(missing_ok=True)
+
+
+def _save_stats(model, path: Path) -> None:
+    """Save the VecNormalize statistics of ``model``'s env atomically."""
+    tmp = path.with_name(path.stem + ".tmp.pkl")
+    model.get_vec_normalize_env().save(str(tmp))
+    os.replace(tmp, path)
+
+
+def _normalized(venv, params: dict[str, Any], stats: Path | None, training: bool):
+    """Wrap ``venv`` in VecNormalize when the run normalises observations.
+
+    Rewards are left as the task defines them (HER recomputes them from goals); with
+    ``stats`` the saved running statistics are loaded, otherwise they start fresh.
+    """
+    if not params.get("normalize"):
+        return venv
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    if stats is not None:
+        venv = VecNormalize.load(str(stats), venv)
+    else:
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=float(params.get("gamma", 0.99)))
+    venv.training = training
+    venv.norm_reward = False
+    return venv
 
 
 def latest_checkpoint(run_dir: Path) -> dict[str, Any] | None:
@@ -331,7 +373,12 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
             shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
     env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}")
-    eval_env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+    stats = run_dir / "checkpoints" / ckpt["vecnormalize"] if ckpt and "vecnormalize" in ckpt else None
+    if ckpt and params.get("normalize") and stats is None:
+        raise TrainError(f"{run_dir}: the checkpoint has no observation statistics (vecnormalize); cannot resume a normalize run")
+    env = _normalized(env, params, stats, training=True)
+    # EvalCallback copies the training statistics into the eval env before each evaluation.
+    eval_env = _normalized(make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None), params, None, training=False)
     cls = algo.cls()
     started = time.time()
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
@@ -376,6 +423,8 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
             tmp = run_dir / "replay_buffer.tmp.pkl"
             model.save_replay_buffer(tmp)
             os.replace(tmp, run_dir / "replay_buffer.pkl")
+        if model.get_vec_normalize_env() is not None:
+            _save_stats(model, run_dir / "vecnormalize.pkl")
         final = {
             "state": "finished",
             "num_timesteps": int(model.num_timesteps),
@@ -453,6 +502,8 @@ def evaluate(
         env_kwargs["reward_type"] = reward_type
     if target.is_file():
         model_path = target
+        if not model_path.suffix == ".zip":
+            raise TrainError(f"{target} is not a model; expected a run directory or a model .zip inside one")
     else:
         candidates = [run_dir / "best" / "best_model.zip", run_dir / "final_model.zip"]
         ckpt = latest_checkpoint(run_dir)
@@ -467,7 +518,11 @@ def evaluate(
 
     env = gym.make(config["env"], **env_kwargs, **render)
     # HER models need an env to load; give them one over the same instance.
-    model = cls.load(model_path, env=DummyVecEnv([lambda: env]), device="cpu")
+    venv = DummyVecEnv([lambda: env])
+    model = cls.load(model_path, env=venv, device="cpu")
+    normalizer = None
+    if config["hyperparameters"].get("normalize"):
+        normalizer = _normalized(venv, config["hyperparameters"], _stats_for(model_path, run_dir), training=False)
     returns, successes, frames = [], 0, []
     for ep in range(episodes):
         obs, info = env.reset(seed=seed + ep)
@@ -475,7 +530,7 @@ def evaluate(
         if video and ep < video_episodes:
             frames.append(env.render())
         while not done:
-            action, _ = model.predict(obs, deterministic=deterministic)
+            action, _ = model.predict(normalizer.normalize_obs(obs) if normalizer else obs, deterministic=deterministic)
             obs, reward, terminated, truncated, info = env.step(action)
             total += reward
             done = terminated or truncated
@@ -488,6 +543,20 @@ def evaluate(
         write_video(Path(video), frames, fps=get_task(config["env"]).render_fps)
     ci = binomtest(successes, episodes).proportion_ci(confidence_level=0.95, method="wilson")
     return EvalResult(episodes, successes, successes / episodes, float(ci.low), float(ci.high), float(np.mean(returns)), float(np.std(returns)))
+
+
+def _stats_for(model_path: Path, run_dir: Path) -> Path:
+    """The VecNormalize statistics saved together with ``model_path``."""
+    model_path = Path(model_path)
+    if model_path.parent.name == "checkpoints":
+        candidate = model_path.parent / model_path.name.replace("model_", "vecnormalize_").replace(".zip", ".pkl")
+    elif model_path.parent.name == "best":
+        candidate = model_path.parent / "vecnormalize.pkl"
+    else:
+        candidate = run_dir / "vecnormalize.pkl"
+    if not candidate.is_file():
+        raise TrainError(f"{model_path} was trained with normalize: true but {candidate} is missing")
+    return candidate
 
 
 def write_video(path: Path, frames: list[np.ndarray], fps: int) -> None:
