@@ -95,7 +95,8 @@ def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path
     assert [r["run"] for r in read_results(out / "results.csv")] == [grid.runs[1].name]
 
 
-def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(tmp_path):
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["kill", "ctrl-c"])
+def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_path):
     grid_path = write_grid(tmp_path, dict(TINY, steps=200))
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "unified_manip.cli", "bench", str(grid_path), "--out", str(out), "--workers", "1", "--no-progress"]
@@ -107,8 +108,12 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(tmp_path):
             break
         assert proc.poll() is None, proc.communicate()
         time.sleep(0.2)
-    os.killpg(proc.pid, signal.SIGKILL)  # the bench and its worker, mid-way
-    proc.wait()
+    os.killpg(proc.pid, sig)  # the bench and its worker, mid-way (Ctrl-C reaches the whole group)
+    out_text, err_text = proc.communicate(timeout=300)
+    if sig == signal.SIGINT:  # a clean stop: one line, no traceback
+        assert proc.returncode == 130, err_text
+        assert b"bench interrupted; run the same command again to resume" in out_text
+        assert b"Traceback" not in err_text
     first = read_results(out / "results.csv")
     assert 1 <= len(first) < 4
     finished_before = {r["run"]: r["wall_time_s"] for r in first}

@@ -167,17 +167,14 @@ def load_grid(path: Path) -> Grid:
 # ---------------------------------------------------------------------- one run
 def run_one(spec: RunSpec, out_dir: str, threads: int = 1) -> dict[str, Any]:
     """Train one run (resuming if needed) and return its results row. Runs in a worker."""
-    import torch
-
     from .train import TrainRequest, train
 
-    torch.set_num_threads(threads)
     run_dir = Path(out_dir) / "runs" / spec.name
     req = TrainRequest(
         env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
         steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides,
     )
-    train(req, argv=None, progress=False, log=lambda msg: None)
+    train(req, argv=None, progress=False, log=lambda msg: None, threads=threads)
     row = collect_row(run_dir)
     if row is None:
         raise RuntimeError(f"{run_dir} did not finish")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import shlex
+import signal
 import sys
 from pathlib import Path
 
@@ -81,7 +82,7 @@ def cmd_speed(args: argparse.Namespace) -> int:
     ids = args.env or list(TASKS)
     wrapped = [t for t in ids if TASKS[t].upstream_id]
     if wrapped and not args.no_upstream:
-        up = Table(title="native mode against the upstream env, same actions, alternating blocks")
+        up = Table(title="native mode against the upstream env, same actions, one step of each in turn")
         for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream"):
             up.add_column(col, justify="right")
         rows = [speed.compare_upstream(t, steps=args.steps) for t in wrapped]
@@ -162,16 +163,23 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
     grid = load_grid(Path(args.grid))
     out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
-    summary = run_grid(
-        grid,
-        out,
-        executor=args.executor,
-        workers=args.workers,
-        address=args.address,
-        retries=args.retries,
-        progress=not args.no_progress,
-        command=shlex.join(["unified-manip", *sys.argv[1:]]),
-    )
+    # Ctrl-C stops the bench cleanly even when it was started with SIGINT ignored.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        summary = run_grid(
+            grid,
+            out,
+            executor=args.executor,
+            workers=args.workers,
+            address=args.address,
+            retries=args.retries,
+            progress=not args.no_progress,
+            command=shlex.join(["unified-manip", *sys.argv[1:]]),
+        )
+    except KeyboardInterrupt:
+        # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
+        print(f"bench interrupted; run the same command again to resume (finished runs are kept in {out})")
+        return 130
     print(
         f"{summary['finished']}/{summary['runs']} runs finished, {len(summary['failed'])} failed; "
         f"results in {summary['results']}"

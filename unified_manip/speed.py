@@ -125,24 +125,28 @@ class UpstreamResult:
         return {**asdict(self), "ratio": self.ratio}
 
 
-def _step_block(env, actions, horizon: int) -> float:
-    """Steps per second over ``actions``, resets (every ``horizon`` steps) not timed."""
+def _interleaved(ours, theirs, actions, horizon: int) -> tuple[float, float]:
+    """Steps per second of ``ours`` and ``theirs`` over the same ``actions``, stepped in
+    turn (which one goes first alternates), so both see the same machine load. Resets
+    (every ``horizon`` steps) are not timed."""
     clock = time.perf_counter
-    spent, t_in_episode = 0.0, 0
-    for a in actions:
-        start = clock()
-        env.step(a)
-        spent += clock() - start
-        t_in_episode += 1
-        if t_in_episode == horizon:
-            env.reset()
-            t_in_episode = 0
-    return len(actions) / spent
+    spent = [0.0, 0.0]
+    envs = (ours, theirs)
+    for i, a in enumerate(actions):
+        for k in ((0, 1) if i % 2 == 0 else (1, 0)):
+            start = clock()
+            envs[k].step(a)
+            spent[k] += clock() - start
+        if (i + 1) % horizon == 0:
+            ours.reset()
+            theirs.reset()
+    return len(actions) / spent[0], len(actions) / spent[1]
 
 
 def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0) -> UpstreamResult:
-    """``native`` mode against the env it wraps (``TaskSpec.upstream_id``), in alternating
-    blocks with the same actions; the figure is the median of the per-round ratios."""
+    """``native`` mode against the env it wraps (``TaskSpec.upstream_id``) on the same
+    actions, one step of each in turn; the figure is the median of the per-round ratios
+    (``rounds`` rounds of ``steps / rounds`` steps)."""
     spec = TASKS[task_id]
     ours = gym.make(task_id, action_mode="native", reward_type="sparse", disable_env_checker=True)
     theirs = spec.build_upstream()
@@ -152,16 +156,17 @@ def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int
     per_round = max(steps // rounds, 1)
     horizon = spec.max_episode_steps
     warm = rng.uniform(-1, 1, size=(50,) + ours.action_space.shape).astype(np.float32)
-    _step_block(ours, warm, horizon)
-    _step_block(theirs, warm, horizon)
-    ours_rates, theirs_rates = [], []
+    _interleaved(ours, theirs, warm, horizon)
+    ours.reset(seed=seed)
+    theirs.reset()
+    ours_rates, ratios = [], []
     for _ in range(rounds):
         actions = rng.uniform(-1, 1, size=(per_round,) + ours.action_space.shape).astype(np.float32)
-        ours_rates.append(_step_block(ours, actions, horizon))
-        theirs_rates.append(_step_block(theirs, actions, horizon))
+        a, b = _interleaved(ours, theirs, actions, horizon)
+        ours_rates.append(a)
+        ratios.append(a / b)
     ours.close()
     theirs.close()
-    ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
     mid = statistics.median(ratios)
     return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
 

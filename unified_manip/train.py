@@ -334,8 +334,14 @@ def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] 
 _COMPARED = ("env", "env_kwargs", "algo", "steps", "seed", "n_envs", "hyperparameters")
 
 
-def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print) -> dict[str, Any]:
+def train(
+    req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print, threads: int | None = None
+) -> dict[str, Any]:
     """Train (or resume, or skip if finished) the run ``req`` describes.
+
+    ``threads`` is torch's thread count (default: up to 2). A caller that runs several
+    trainings side by side passes 1: oversubscribed OpenMP threads spin and slow every
+    run several-fold.
 
     Returns the final status dict. Raises :class:`TrainError` for bad requests and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
@@ -364,7 +370,7 @@ def train(req: TrainRequest, argv: list[str] | None = None, progress: bool = Tru
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
-    torch.set_num_threads(max(1, min(2, os.cpu_count() or 1)))
+    torch.set_num_threads(threads or max(1, min(2, os.cpu_count() or 1)))
     ckpt = latest_checkpoint(run_dir)
     if ckpt is None:  # starting (again) from step 0: logs of an aborted attempt would mislead
         import shutil
