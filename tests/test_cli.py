@@ -71,3 +71,15 @@ def test_demo_writes_a_picture_strip(tmp_path):
     for tid in ids:  # one verdict per task (FetchSlide's policy often fails: it is reported)
         assert f"{tid}: success" in proc.stdout or f"{tid}: failure" in proc.stdout
     assert "UnifiedManip/Arm4PickAndPlace-v0: success" in proc.stdout
+
+
+def test_speed_compares_native_mode_with_the_upstream_env(tmp_path):
+    out = tmp_path / "speed.json"
+    proc = run("speed", "--env", "UnifiedManip/FetchReach-v0", "--modes", "native", "--steps", "100", "--repeats", "1",
+               "--json", str(out))
+    (row,) = json.loads(out.read_text())["upstream"]
+    assert row["task_id"] == "UnifiedManip/FetchReach-v0" and row["upstream"] == "FetchReach-v4"
+    assert row["ours_steps_per_s"] > 0 and row["upstream_steps_per_s"] > 0
+    assert row["ratio"] == row["ours_steps_per_s"] / row["upstream_steps_per_s"]
+    assert row["ours_resets_per_s"] > 0 and row["upstream_resets_per_s"] > 0
+    assert "one step of each in turn" in proc.stdout

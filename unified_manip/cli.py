@@ -83,11 +83,14 @@ def cmd_speed(args: argparse.Namespace) -> int:
     wrapped = [t for t in ids if TASKS[t].upstream_id]
     if wrapped and not args.no_upstream:
         up = Table(title="native mode against the upstream env, same actions, one step of each in turn")
-        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream"):
+        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream", "ours resets/s", "upstream resets/s"):
             up.add_column(col, justify="right")
         rows = [speed.compare_upstream(t, steps=args.steps) for t in wrapped]
         for r in rows:
-            up.add_row(r.task_id, r.upstream, f"{r.ours_steps_per_s:,.0f}", f"{r.upstream_steps_per_s:,.0f}", f"{r.ratio:.3f}")
+            up.add_row(
+                r.task_id, r.upstream, f"{r.ours_steps_per_s:,.0f}", f"{r.upstream_steps_per_s:,.0f}", f"{r.ratio:.3f}",
+                f"{r.ours_resets_per_s:,.0f}", f"{r.upstream_resets_per_s:,.1f}",
+            )
         console.print(up)
         document["upstream"] = [r.as_dict() for r in rows]
     if args.train:

@@ -116,6 +116,8 @@ class UpstreamResult:
     upstream: str
     ours_steps_per_s: float
     upstream_steps_per_s: float
+    ours_resets_per_s: float = float("nan")
+    upstream_resets_per_s: float = float("nan")
 
     @property
     def ratio(self) -> float:
@@ -143,10 +145,11 @@ def _interleaved(ours, theirs, actions, horizon: int) -> tuple[float, float]:
     return len(actions) / spent[0], len(actions) / spent[1]
 
 
-def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0) -> UpstreamResult:
+def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0, resets: int = 10) -> UpstreamResult:
     """``native`` mode against the env it wraps (``TaskSpec.upstream_id``) on the same
     actions, one step of each in turn; the figure is the median of the per-round ratios
-    (``rounds`` rounds of ``steps / rounds`` steps)."""
+    (``rounds`` rounds of ``steps / rounds`` steps). Resets are timed the same way,
+    ``resets`` of each in turn, each env with its default reset."""
     spec = TASKS[task_id]
     ours = gym.make(task_id, action_mode="native", reward_type="sparse", disable_env_checker=True)
     theirs = spec.build_upstream()
@@ -165,10 +168,24 @@ def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int
         a, b = _interleaved(ours, theirs, actions, horizon)
         ours_rates.append(a)
         ratios.append(a / b)
+    clock = time.perf_counter
+    reset_time = [0.0, 0.0]
+    for _ in range(resets):
+        for k, env in enumerate((ours, theirs)):
+            start = clock()
+            env.reset()
+            reset_time[k] += clock() - start
     ours.close()
     theirs.close()
     mid = statistics.median(ratios)
-    return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
+    return UpstreamResult(
+        task_id,
+        spec.upstream_id,
+        statistics.median(ours_rates),
+        statistics.median(ours_rates) / mid,
+        resets / reset_time[0] if resets else float("nan"),
+        resets / reset_time[1] if resets else float("nan"),
+    )
 
 
 def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0) -> UpstreamResult:
