@@ -202,6 +202,26 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     assert (tmp_path / "report" / "Arm4Reach-v0_success.png").stat().st_size > 10_000
 
 
+def test_report_ranks_reward_settings_and_sets_claims_beside_measurements(tmp_path):
+    """One action mode, several algorithm x reward settings (the reward-design grid)."""
+    rows = _fixture_rows()
+    for r in rows:  # relabel: ee_delta rows become "sac dense", joint_delta rows "ppo sparse"
+        dense = r["action_mode"] == "ee_delta"
+        r.update(action_mode="ee_delta", algo="sac" if dense else "ppo", reward_type="dense" if dense else "sparse",
+                 run=r["run"].replace("sac_her", "sac" if dense else "ppo"))
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    write_results(bench, rows)
+    claims = {"PPO, sparse reward": {"task": "UnifiedManip/Arm4Reach-v0", "algo": "ppo", "reward_type": "sparse",
+                                     "claimed": "~5%", "claimed_budget": "1M steps"}}
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims).read_text()
+    assert "## Ranking of algorithm and reward settings" in text
+    assert "| 1 | sac | dense | 0.50 | — |" in text
+    assert "| 2 | ppo | sparse | 0.20 | 0.88 |" in text  # the same hand-computed 14/16 as above
+    assert "| PPO, sparse reward | ~5% (1M steps) | 0.20 [" in text
+    assert "(1,000 steps, 4 seeds) |" in text
+
+
 def test_dense_rewards_peak_inside_the_success_region():
     for task in ("UnifiedManip/Arm4Reach-v0", "UnifiedManip/Arm4PickAndPlace-v0"):
         for reward in ("dense", "dense_penalized"):

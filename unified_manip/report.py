@@ -180,6 +180,21 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
                 lines.append(f"| {i} | {mode} | {np.mean(vals):.2f} | {poi} |")
             lines.append("")
 
+    configs_by_task = {t: g for t, g in by_task.items() if len({m for _, m, _ in g}) == 1 and len(g) > 1}
+    if configs_by_task:
+        lines += ["## Ranking of algorithm and reward settings", ""]
+        for task, groups in configs_by_task.items():
+            ranked = sorted(groups.items(), key=lambda kv: -np.mean([r["final_success_rate"] for r in kv[1]]))
+            best = [r["final_success_rate"] for r in ranked[0][1]]
+            lines += [f"**{task.split('/')[-1]}**, {ranked[0][0][1]} mode:", ""]
+            lines += ["| rank | algo | reward | mean final success | P(best > this) |", "|---:|---|---|---:|---:|"]
+            for i, ((algo, _, reward), runs) in enumerate(ranked, 1):
+                vals = [r["final_success_rate"] for r in runs]
+                enough = len(vals) >= 2 and len(best) >= 2
+                poi = "—" if i == 1 else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
+                lines.append(f"| {i} | {algo} | {reward} | {np.mean(vals):.2f} | {poi} |")
+            lines.append("")
+
     if claims:
         lines += ["## Against the design document's claims", ""]
         lines += claims_section(rows, claims)
