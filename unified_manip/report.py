@@ -162,7 +162,8 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         fig = plot_task(task, groups, out)
         lines += [f"![{task}]({fig.name})", ""]
 
-    lines += ["## Ranking of action modes", ""]
+    if any(len({m for _, m, _ in g}) > 1 for g in by_task.values()):
+        lines += ["## Ranking of action modes", ""]
     for task, groups in by_task.items():
         by_setting: dict[tuple[str, str], dict[str, list[float]]] = defaultdict(dict)
         for (algo, mode, reward), runs in groups.items():
