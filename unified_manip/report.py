@@ -171,30 +171,19 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         for (algo, reward), modes in sorted(by_setting.items()):
             if len(modes) < 2:
                 continue
-            ranked = sorted(modes.items(), key=lambda kv: -np.mean(kv[1]))
-            best_mode, best = ranked[0]
             lines += [f"**{task.split('/')[-1]}**, {algo}, {reward} reward:", ""]
-            lines += ["| rank | action mode | mean final success | P(best > this) |", "|---:|---|---:|---:|"]
-            for i, (mode, vals) in enumerate(ranked, 1):
-                enough = len(vals) >= 2 and len(best) >= 2
-                poi = "—" if mode == best_mode else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
-                lines.append(f"| {i} | {mode} | {np.mean(vals):.2f} | {poi} |")
-            lines.append("")
+            lines += _ranking_table(["action mode"], {(mode,): vals for mode, vals in modes.items()})
 
     configs_by_task = {t: g for t, g in by_task.items() if len({m for _, m, _ in g}) == 1 and len(g) > 1}
     if configs_by_task:
         lines += ["## Ranking of algorithm and reward settings", ""]
         for task, groups in configs_by_task.items():
-            ranked = sorted(groups.items(), key=lambda kv: -np.mean([r["final_success_rate"] for r in kv[1]]))
-            best = [r["final_success_rate"] for r in ranked[0][1]]
-            lines += [f"**{task.split('/')[-1]}**, {ranked[0][0][1]} mode:", ""]
-            lines += ["| rank | algo | reward | mean final success | P(best > this) |", "|---:|---|---|---:|---:|"]
-            for i, ((algo, _, reward), runs) in enumerate(ranked, 1):
-                vals = [r["final_success_rate"] for r in runs]
-                enough = len(vals) >= 2 and len(best) >= 2
-                poi = "—" if i == 1 else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
-                lines.append(f"| {i} | {algo} | {reward} | {np.mean(vals):.2f} | {poi} |")
-            lines.append("")
+            mode = next(iter(groups))[1]
+            lines += [f"**{task.split('/')[-1]}**, {mode} mode:", ""]
+            lines += _ranking_table(
+                ["algo", "reward"],
+                {(algo, reward): [r["final_success_rate"] for r in runs] for (algo, _, reward), runs in groups.items()},
+            )
 
     if claims:
         lines += ["## Against the design document's claims", ""]
@@ -226,6 +215,22 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def _ranking_table(columns: list[str], settings: dict[tuple[str, ...], list[float]]) -> list[str]:
+    """Markdown rows ranking ``settings`` (label -> final success per seed) by mean, with
+    rliable's probability that the best beats each one."""
+    ranked = sorted(settings.items(), key=lambda kv: -np.mean(kv[1]))
+    best = ranked[0][1]
+    lines = [
+        f"| rank | {' | '.join(columns)} | mean final success | P(best > this) |",
+        "|---:|" + "---|" * len(columns) + "---:|---:|",
+    ]
+    for i, (label, vals) in enumerate(ranked, 1):
+        enough = len(vals) >= 2 and len(best) >= 2
+        poi = "—" if i == 1 else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
+        lines.append(f"| {i} | {' | '.join(label)} | {np.mean(vals):.2f} | {poi} |")
+    return lines + [""]
 
 
 def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
