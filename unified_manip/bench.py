@@ -165,14 +165,14 @@ def load_grid(path: Path) -> Grid:
 
 
 # ---------------------------------------------------------------------- one run
-def run_one(spec: RunSpec, out_dir: str, threads: int = 1) -> dict[str, Any]:
+def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = None) -> dict[str, Any]:
     """Train one run (resuming if needed) and return its results row. Runs in a worker."""
     from .train import TrainRequest, train
 
     run_dir = Path(out_dir) / "runs" / spec.name
     req = TrainRequest(
         env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
-        steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides,
+        steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides, device=device,
     )
     train(req, argv=None, progress=False, log=lambda msg: None, threads=threads)
     row = collect_row(run_dir)
@@ -262,8 +262,19 @@ def run_grid(
     progress: bool = True,
     command: str | None = None,
     on_event: Callable[[str, RunSpec], None] | None = None,
+    device: str | None = None,
 ) -> dict[str, Any]:
-    """Run every run of ``grid`` that is not finished yet; return a summary."""
+    """Run every run of ``grid`` that is not finished yet; return a summary.
+
+    ``device`` (auto, cpu or cuda) applies to every run; it is checked here, before any
+    run starts, so ``cuda`` without a GPU fails once and not once per run."""
+    if device is not None:
+        from .devices import DeviceError, resolve_device
+
+        try:
+            resolve_device(device)
+        except DeviceError as err:
+            raise GridError(str(err)) from None
     out_dir = Path(out_dir).resolve()
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
@@ -309,7 +320,7 @@ def run_grid(
             while queue or futures:
                 while queue and len(futures) < workers:
                     spec = queue.pop(0)
-                    futures[pool.submit(run_one, spec, str(out_dir))] = spec
+                    futures[pool.submit(run_one, spec, str(out_dir), 1, device)] = spec
                 postfix(len(futures))
                 from concurrent.futures import FIRST_COMPLETED, wait
 
@@ -335,7 +346,7 @@ def run_grid(
         while queue or pending:
             while queue and len(pending) < workers:
                 spec = queue.pop(0)
-                pending[remote.remote(spec, str(out_dir))] = spec
+                pending[remote.remote(spec, str(out_dir), 1, device)] = spec
             postfix(len(pending))
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:

@@ -13,6 +13,7 @@ from rich.console import Console
 from rich.table import Table
 
 from .config import REWARD_TYPES
+from .devices import DEVICES
 from .registry import TASKS
 
 
@@ -131,6 +132,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         run_dir=Path(args.run_dir) if args.run_dir else None,
         overrides=tuple(args.set or ()),
         env_kwargs=dict(args.env_kwarg or ()),
+        device=args.device,
     )
     try:
         train(req, argv=["unified-manip", *sys.argv[1:]], progress=not args.no_progress)
@@ -149,6 +151,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
         reward_type=args.reward_type,
         seed=args.seed,
         video=Path(args.video) if args.video else None,
+        device=args.device,
     )
     print(
         f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
@@ -178,6 +181,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
             retries=args.retries,
             progress=not args.no_progress,
             command=shlex.join(["unified-manip", *sys.argv[1:]]),
+            device=args.device,
         )
     except KeyboardInterrupt:
         # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
@@ -253,6 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
     p.add_argument("--env-kwarg", action="append", type=_env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--device", choices=DEVICES, help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto")
     p.set_defaults(func=cmd_train)
 
     p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
@@ -263,6 +268,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
     p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
     p.add_argument("--json", help="also write the result to this JSON file")
+    p.add_argument("--device", choices=DEVICES, default="auto", help="auto (CUDA when torch sees a GPU), cpu or cuda")
     p.set_defaults(func=cmd_eval)
 
     p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
@@ -272,6 +278,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
     p.add_argument("--workers", type=_positive_int, help="runs at a time (default: CPU cores)")
     p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
+    p.add_argument("--device", choices=DEVICES, help="device of every run: auto, cpu or cuda (default: each hyperparameter file's device key, else auto)")
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=cmd_bench)
 

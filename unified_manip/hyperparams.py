@@ -29,6 +29,7 @@ RUN_KEYS: dict[str, type] = {
     "checkpoint_freq": int,  # env steps between resumable checkpoints
     "action_noise_std": float,  # TD3: std of Gaussian exploration noise, in action units
     "normalize": bool,  # running mean/std observation normalisation (VecNormalize), as the zoo's normalize
+    "device": str,  # auto | cpu | cuda; --device overrides it (where a run executes, not compared on resume)
 }
 
 #: Where the YAML files live: the repository's ``baselines/`` (an editable install or a

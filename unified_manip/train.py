@@ -37,6 +37,7 @@ import numpy as np
 import yaml
 
 from .config import REWARD_TYPES
+from .devices import DEVICES, DeviceError, resolve_device
 from .hyperparams import ALGOS, RUN_KEYS, get_algo, resolve
 from .registry import TASKS, get_task
 
@@ -64,6 +65,8 @@ class TrainRequest:
         run_dir: Where the run lives.
         overrides: ``key=value`` hyperparameter overrides.
         env_kwargs: Extra env keyword arguments (e.g. ``robot``).
+        device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
+            ``device`` key, and ``auto`` where that has none.
     """
 
     env: str
@@ -76,6 +79,7 @@ class TrainRequest:
     run_dir: Path | None = None
     overrides: tuple[str, ...] = ()
     env_kwargs: dict[str, Any] = field(default_factory=dict)
+    device: str | None = None
 
     def __post_init__(self) -> None:
         if self.env not in TASKS:
@@ -90,6 +94,8 @@ class TrainRequest:
             raise TrainError(f"unknown reward type {self.reward_type!r}; expected one of {', '.join(REWARD_TYPES)}")
         if self.algo not in ALGOS:
             raise TrainError(f"unknown algorithm {self.algo!r}; expected one of {', '.join(ALGOS)}")
+        if self.device is not None and self.device not in DEVICES:
+            raise TrainError(f"unknown device {self.device!r}; expected one of {', '.join(DEVICES)}")
         for name in ("steps", "n_envs"):
             if getattr(self, name) <= 0:
                 raise TrainError(f"--{name.replace('_', '-')} must be positive, got {getattr(self, name)}")
@@ -316,7 +322,7 @@ def latest_checkpoint(run_dir: Path) -> dict[str, Any] | None:
 
 
 # ---------------------------------------------------------------------- train
-def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] | None) -> dict[str, Any]:
+def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] | None, device: str) -> dict[str, Any]:
     return {
         "env": req.env,
         "env_kwargs": req.env_config(),
@@ -324,6 +330,7 @@ def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] 
         "steps": req.steps,
         "seed": req.seed,
         "n_envs": req.n_envs,
+        "device": device,  # where it started; a resume may run elsewhere (not compared)
         "hyperparameters": params,
         "overrides": list(req.overrides),
         "versions": package_versions(),
@@ -350,8 +357,15 @@ def train(
 
     algo = get_algo(req.algo)
     params = resolve(req.algo, req.env, req.overrides)
+    # The device is where a run executes, not what it is: it stays out of the compared
+    # hyperparameters, so a run started on one device resumes on another.
+    try:
+        device = resolve_device(req.device or params.pop("device", "auto"))
+    except DeviceError as err:
+        raise TrainError(str(err)) from None
+    params.pop("device", None)
     run_dir = req.directory
-    config = _config_document(req, params, argv)
+    config = _config_document(req, params, argv, device)
 
     status = read_status(run_dir)
     if (run_dir / CONFIG).is_file():
@@ -390,14 +404,14 @@ def train(
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
     try:
         if ckpt:
-            model = cls.load(run_dir / "checkpoints" / ckpt["model"], env=env, device="cpu")
+            model = cls.load(run_dir / "checkpoints" / ckpt["model"], env=env, device=device)
             if "replay_buffer" in ckpt:
                 model.load_replay_buffer(run_dir / "checkpoints" / ckpt["replay_buffer"])
-            log(f"{run_dir}: resuming from step {model.num_timesteps} of {req.steps}")
+            log(f"{run_dir}: resuming from step {model.num_timesteps} of {req.steps} on {device}")
         else:
             if status is not None:
                 log(f"{run_dir}: unfinished run without a checkpoint; starting again from step 0")
-            model = cls(env=env, seed=req.seed, device="cpu", tensorboard_log=str(run_dir / "tb"), verbose=0,
+            model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -476,6 +490,7 @@ def evaluate(
     video: Path | None = None,
     video_episodes: int = 2,
     deterministic: bool = True,
+    device: str = "auto",
 ) -> EvalResult:
     """Evaluate a run directory (its best model if any, else its final one) or a model
     zip inside a run directory. The env defaults to the run's own settings; a model
@@ -485,6 +500,10 @@ def evaluate(
 
     if episodes <= 0:
         raise TrainError(f"--episodes must be positive, got {episodes}")
+    try:
+        device = resolve_device(device)
+    except DeviceError as err:
+        raise TrainError(str(err)) from None
     if video is not None and Path(video).suffix.lower() not in (".mp4", ".gif"):
         raise TrainError(f"unsupported video format {Path(video).suffix!r}; expected .mp4 or .gif")
     target = Path(target)
@@ -525,7 +544,7 @@ def evaluate(
     env = gym.make(config["env"], **env_kwargs, **render)
     # HER models need an env to load; give them one over the same instance.
     venv = DummyVecEnv([lambda: env])
-    model = cls.load(model_path, env=venv, device="cpu")
+    model = cls.load(model_path, env=venv, device=device)
     normalizer = None
     if config["hyperparameters"].get("normalize"):
         normalizer = _normalized(venv, config["hyperparameters"], _stats_for(model_path, run_dir), training=False)
