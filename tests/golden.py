@@ -1,0 +1,165 @@
+"""Golden trajectories: the behaviour every refactor must keep, bit for bit.
+
+For every registered ID x action mode x reward type, one 50-step rollout: ``reset(seed=0)``
+and 50 seeded random actions (the same actions for the three reward types of an ID and
+mode). Four SHA-256 hashes are kept per case, of
+
+* ``obs``: every observation dict (reset's and each step's);
+* ``rewards``: the step rewards;
+* ``infos``: every info dict (reset's and each step's), nested dicts included;
+* ``ends``: each step's ``terminated`` and ``truncated``.
+
+Hashing is canonical: dict keys sorted, every number or array converted to float64
+and hashed as its exact bytes with its shape (so float32 and float64 of one value
+agree, and 1.0 and 1 agree), bools and strings tagged apart from numbers. A change in
+the last bit of any value changes the hash.
+
+Commands (run from the repository root, the virtual environment active)::
+
+    python tests/golden.py                    # compare every case, print those that differ
+    python tests/golden.py --only Lift        # only cases whose key contains "Lift"
+    python tests/golden.py --write            # add cases not stored yet (a new ID or mode);
+                                              # a stored case that differs is reported, kept
+    python tests/golden.py --update --only X  # overwrite differing stored cases too
+
+``--update`` is only for a deliberate, documented behaviour change, together with a
+version bump of the ID (the old version keeps its hashes; see the README). Cases of IDs
+or modes no longer registered are dropped on writing.
+The hashes are of this platform's floating point (x86-64, the pinned MuJoCo 3.9.0 and
+numpy 1.26): another CPU architecture or library version may legitimately differ.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import zlib
+from pathlib import Path
+from typing import Any, Iterator
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
+
+PATH = Path(__file__).with_name("golden_hashes.json")
+STEPS = 50
+RESET_SEED = 0
+FIELDS = ("obs", "rewards", "infos", "ends")
+
+
+def cases() -> list[tuple[str, str, str]]:
+    """Every registered ID x action mode x reward type, in registration order."""
+    import unified_manip
+
+    return [
+        (tid, mode, reward)
+        for tid, spec in unified_manip.TASKS.items()
+        for mode in spec.action_modes
+        for reward in unified_manip.REWARD_TYPES
+    ]
+
+
+def key(task_id: str, mode: str, reward: str) -> str:
+    return f"{task_id}|{mode}|{reward}"
+
+
+def feed(h: "hashlib._Hash", value: Any) -> None:
+    """Add ``value`` to ``h`` canonically (see the module docstring)."""
+    if isinstance(value, dict):
+        h.update(b"{")
+        for k in sorted(value, key=str):
+            h.update(b"k" + str(k).encode() + b"\0")
+            feed(h, value[k])
+        h.update(b"}")
+    elif isinstance(value, (list, tuple)):
+        h.update(b"[")
+        for v in value:
+            feed(h, v)
+        h.update(b"]")
+    elif value is None:
+        h.update(b"N")
+    elif isinstance(value, str):
+        h.update(b"s" + value.encode() + b"\0")
+    elif isinstance(value, (bool, np.bool_)):
+        h.update(b"?1" if value else b"?0")
+    else:
+        a = np.asarray(value)
+        if a.dtype.kind not in "fiub":
+            raise TypeError(f"cannot hash a value of type {type(value).__name__} ({a.dtype})")
+        a = np.ascontiguousarray(a, dtype=np.float64)
+        h.update(b"f" + repr(a.shape).encode() + a.tobytes())
+
+
+def rollout(task_id: str, mode: str, reward: str) -> Iterator[tuple[str, Any]]:
+    """``(field, value)`` pairs of one golden rollout, in order."""
+    env = gym.make(task_id, action_mode=mode, reward_type=reward)
+    try:
+        rng = np.random.default_rng(zlib.crc32(f"{task_id}|{mode}".encode()))
+        actions = rng.uniform(-1.0, 1.0, size=(STEPS,) + env.action_space.shape).astype(np.float32)
+        obs, info = env.reset(seed=RESET_SEED)
+        yield "obs", obs
+        yield "infos", info
+        for a in actions:
+            obs, r, terminated, truncated, info = env.step(a)
+            yield "obs", obs
+            yield "rewards", r
+            yield "infos", info
+            yield "ends", (terminated, truncated)
+            if terminated or truncated:
+                obs, info = env.reset()
+                yield "obs", obs
+                yield "infos", info
+    finally:
+        env.close()
+
+
+def hashes(task_id: str, mode: str, reward: str) -> dict[str, str]:
+    """The four hashes of one case."""
+    h = {f: hashlib.sha256() for f in FIELDS}
+    for field, value in rollout(task_id, mode, reward):
+        feed(h[field], value)
+    return {f: h[f].hexdigest() for f in FIELDS}
+
+
+def load() -> dict[str, dict[str, str]]:
+    return json.loads(PATH.read_text())["cases"]
+
+
+def main(argv: list[str]) -> int:
+    write, update = "--write" in argv, "--update" in argv
+    only = argv[argv.index("--only") + 1] if "--only" in argv else ""
+    stored = load() if PATH.exists() else {}
+    todo = [c for c in cases() if only in key(*c)]
+    added, differ = [], []
+    for case in todo:
+        k = key(*case)
+        got = hashes(*case)
+        if k not in stored:
+            added.append(k)
+            print(f"new     {k}", flush=True)
+        elif stored[k] != got:
+            differ.append(k)
+            print(f"differs {k}", flush=True)
+            if not update:
+                continue
+        stored[k] = got
+    if write or update:
+        current = {key(*c) for c in cases()}
+        dropped = sorted(set(stored) - current)
+        doc = {
+            "about": "Golden-trajectory hashes: see tests/golden.py for what they cover and how to regenerate them.",
+            "steps": STEPS,
+            "cases": {k: v for k, v in stored.items() if k in current},
+        }
+        PATH.write_text(json.dumps(doc, indent=1, sort_keys=True) + "\n")
+        print(f"wrote {PATH}: {len(added)} added, {len(differ) if update else 0} updated, {len(dropped)} dropped")
+        return 1 if differ and not update else 0
+    print(f"{len(todo) - len(differ) - len(added)}/{len(todo)} cases match, {len(added)} not stored")
+    return 1 if differ or added else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,40 @@
+"""Behaviour does not change: every ID x action mode x reward type replays its golden
+50-step rollout bit for bit (see ``tests/golden.py``; regenerate with
+``python tests/golden.py --write``)."""
+
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+import pytest
+from conftest import ID_MODE_REWARDS
+from golden import feed, hashes, key, load
+
+STORED = load()
+
+
+def test_every_registered_case_has_stored_hashes():
+    current = {key(*c) for c in ID_MODE_REWARDS}
+    assert sorted(current - set(STORED)) == [], "run: python tests/golden.py --write"
+    assert sorted(set(STORED) - current) == [], "IDs or modes were removed: bump versions instead"
+
+
+def test_golden_rollout(id_mode_reward):
+    assert hashes(*id_mode_reward) == STORED[key(*id_mode_reward)]
+
+
+def _digest(value) -> str:
+    h = hashlib.sha256()
+    feed(h, value)
+    return h.hexdigest()
+
+
+def test_hashing_is_canonical_and_sees_the_last_bit():
+    a = {"b": np.float32(1.5), "a": {"y": True, "x": [1, 2.0]}}
+    assert _digest(a) == _digest({"a": {"x": [1.0, np.int64(2)], "y": np.bool_(True)}, "b": 1.5})
+    assert _digest(1.0) != _digest(np.nextafter(1.0, 2.0))
+    assert _digest(True) != _digest(1.0)
+    assert _digest(np.zeros(2)) != _digest(np.zeros((2, 1)))
+    with pytest.raises(TypeError, match="cannot hash a value of type object"):
+        _digest(object())
