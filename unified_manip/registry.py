@@ -115,6 +115,7 @@ def register_task(spec: TaskSpec) -> TaskSpec:
     gym.register(
         id=spec.id,
         entry_point="unified_manip.env:UnifiedManipEnv",
+        vector_entry_point="unified_manip.vector:make_vector_env",
         kwargs={"task_id": spec.id},
         max_episode_steps=spec.max_episode_steps,
     )

@@ -1,0 +1,194 @@
+"""The 4-DOF arm, N at a time: action scaling, servo targets and observations as arrays.
+
+:class:`VectorizedArm4` holds N of the family's own backends (``TaskSpec.make_backend``),
+so each env keeps its own model, data, reset code and mink IK. A step:
+
+1. computes the joint modes' controls for all N envs at once in numpy (the formulas of
+   :class:`~unified_manip.control.JointControl`, written over rows);
+2. steps the physics of each env on the :class:`~.pool.PhysicsPool`. Per env, a worker
+   writes the controls (under ``ee_delta`` it runs that env's own mink IK, built once
+   with its backend), runs the backend's ``physics_step`` (``mj_step`` releases the
+   GIL), refreshes the site positions, copies ``qpos``/``qvel`` (one ``mj_getState``)
+   and the grip site into row ``i`` of shared arrays, and asks the backend for its
+   gripper-object distance and grasp (``math.dist`` and a contact scan: cheaper per env
+   than any exact numpy form, and overlapped with the other threads' physics);
+3. builds the observations of all N envs at once from those arrays.
+
+The observation layout is the one of ``Arm4Backend.observation``; the constructor
+checks the two agree on every env, so a change of the family's layout fails loudly.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import mujoco
+import numpy as np
+
+from ..backend import Backend
+from .batched import BatchedBackend
+
+_QPOS_QVEL = int(mujoco.mjtState.mjSTATE_QPOS | mujoco.mjtState.mjSTATE_QVEL)
+#: The warnings MuJoCo counts when it finds a diverged state and resets it (as
+#: ``unified_manip.control.bad_state_warnings``).
+_BAD_QPOS, _BAD_QVEL, _BAD_QACC = (
+    int(mujoco.mjtWarning.mjWARN_BADQPOS),
+    int(mujoco.mjtWarning.mjWARN_BADQVEL),
+    int(mujoco.mjtWarning.mjWARN_BADQACC),
+)
+#: Observation layout (``Arm4Backend.observation``): reach tasks take the arm and finger
+#: coordinates, object tasks all of qpos/qvel; the cube's position is qpos[6:9].
+_ROBOT_Q = 6
+_CUBE = slice(6, 9)
+
+
+def _joint_scaling(rig, mode: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(scale, offset)`` of a joint mode (``offset`` None: relative to the measured q)."""
+    n = rig.n
+    if mode == "joint_torque":
+        return rig.max_torque, np.zeros(n)
+    if mode == "joint_velocity":
+        return rig.max_velocity, np.zeros(n)
+    if mode == "joint_position":
+        return 0.5 * (rig.upper - rig.lower), 0.5 * (rig.upper + rig.lower)
+    if mode == "joint_delta":
+        return np.full(n, rig.gains.max_delta), None
+    raise ValueError(f"not a joint mode: {mode!r}")
+
+
+class VectorizedArm4(BatchedBackend):
+    """N arm backends of one task and action mode, stepped together.
+
+    Args:
+        backends: The family's backends, one per env, all built from the same config.
+        action_mode: The config's action mode (``native`` is ``joint_delta`` here).
+        num_threads: Threads of the physics pool.
+    """
+
+    def __init__(self, backends: Sequence[Backend], action_mode: str, num_threads: int) -> None:
+        self._backends = list(backends)
+        self.num_envs = n = len(self._backends)
+        b0 = self._backends[0]
+        self.kind = b0.kind
+        self.action_dim = b0.action_dim
+        self._ee = action_mode == "ee_delta"
+        rig = b0.rig
+        self._arm_cols = rig.actuator_ids
+        self._grip_cols = rig.gripper_ids
+        self._qpos_adr = rig.qpos_adr
+        self._lower, self._upper = rig.lower, rig.upper
+        self._grip_closed, self._grip_span = rig.gripper_closed, rig.gripper_span
+        if not self._ee:
+            self._scale, self._offset = _joint_scaling(rig, "joint_delta" if action_mode == "native" else action_mode)
+        m = b0.model
+        self._nq = m.nq
+        self._state = np.zeros((n, m.nq + m.nv))
+        self._ctrl = np.zeros((n, m.nu))
+        self._grip = np.zeros((n, 3))
+        self._goal = np.zeros((n, 3))
+        self._g2o = np.zeros(n)
+        self._grasped = np.zeros(n)
+        self._unstable = np.zeros(n, dtype=bool)
+        self._residual = np.zeros(n)
+        self._limit = np.zeros(n, dtype=bool)
+        self._actions = np.zeros((n, self.action_dim))
+        self._num_threads = num_threads
+        self._attach()
+        # Size and check: one reset of every env with a throwaway generator, as the
+        # single env does when it is built.
+        for i in range(n):
+            self.reset(i, np.random.default_rng(0))
+        self._check_layout()
+
+    _transient = ("_pool", "_ctrl_views", "_warn_views", "_grip_views")
+
+    def _attach(self) -> None:
+        """Thread pool and live views into each env's MjData (rebuilt after unpickling)."""
+        super()._attach()
+        self._ctrl_views = [b.data.ctrl for b in self._backends]
+        self._warn_views = [b.data.warning.number for b in self._backends]
+        self._grip_views = [b.data.site_xpos[b.rig.site_id] for b in self._backends]
+
+    def _check_layout(self) -> None:
+        obs = self.observations()
+        for i, b in enumerate(self._backends):
+            single = {
+                "observation": np.asarray(b.observation(), dtype=np.float32),
+                "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
+                "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
+            }
+            for key, value in single.items():
+                if not np.array_equal(obs[key][i], value):
+                    raise RuntimeError(
+                        f"VectorizedArm4: {key} of env {i} differs from Arm4Backend's; "
+                        "update unified_manip/vector/arm4.py to the family's observation layout"
+                    )
+
+    # ------------------------------------------------------------------ episodes
+    def reset(self, index: int, np_random: np.random.Generator) -> dict[str, Any]:
+        b = self._backends[index]
+        b.reset(np_random)
+        self._goal[index] = b.desired_goal()
+        self._ctrl[index] = self._ctrl_views[index]
+        self._gather(index)
+        return b.extra_info()
+
+    def step(self, actions: np.ndarray, indices: np.ndarray) -> dict[str, np.ndarray]:
+        if self._ee:
+            self._actions[:] = actions
+            self._pool.run(self._step_ee, indices.tolist())
+            return {"ik_residual": self._residual.copy(), "ik_limit_active": self._limit.copy()}
+        n = self._scale.shape[0]
+        arm = actions[:, :n] * self._scale
+        if self._offset is None:  # joint_delta: relative to the measured position
+            measured = self._state[:, self._qpos_adr]
+            arm = np.minimum(np.maximum(measured + arm, self._lower), self._upper)
+        else:
+            arm = arm + self._offset
+        self._ctrl[:, self._arm_cols] = arm
+        self._ctrl[:, self._grip_cols] = (self._grip_closed + (actions[:, n] + 1.0) * 0.5 * self._grip_span)[:, None]
+        self._pool.run(self._step_joint, indices.tolist())
+        return {}
+
+    # ------------------------------------------------------------------ per env, on the pool
+    def _step_joint(self, i: int) -> None:
+        np.copyto(self._ctrl_views[i], self._ctrl[i])
+        self._advance(i)
+
+    def _step_ee(self, i: int) -> None:
+        diagnostics = self._backends[i].control(self._actions[i])
+        self._residual[i] = diagnostics["ik_residual"]
+        self._limit[i] = diagnostics["ik_limit_active"]
+        self._advance(i)
+
+    def _advance(self, i: int) -> None:
+        b, w = self._backends[i], self._warn_views[i]
+        before = int(w[_BAD_QPOS]) + int(w[_BAD_QVEL]) + int(w[_BAD_QACC])
+        b.physics_step()
+        # MuJoCo resets a diverged state itself and counts a warning (as Arm4Backend.step).
+        self._unstable[i] = int(w[_BAD_QPOS]) + int(w[_BAD_QVEL]) + int(w[_BAD_QACC]) > before
+        mujoco.mj_kinematics(b.model, b.data)
+        self._gather(i)
+
+    def _gather(self, i: int) -> None:
+        b = self._backends[i]
+        mujoco.mj_getState(b.model, b.data, self._state[i], _QPOS_QVEL)
+        np.copyto(self._grip[i], self._grip_views[i])
+        self._g2o[i], self._grasped[i] = b.reward_state()
+
+    # ------------------------------------------------------------------ batched reads
+    def observations(self) -> dict[str, np.ndarray]:
+        qpos, qvel = self._state[:, : self._nq], self._state[:, self._nq :]
+        grip, goal = self._grip, self._goal
+        if self.kind == "reach":
+            obs = np.concatenate((qpos[:, :_ROBOT_Q], qvel[:, :_ROBOT_Q], grip, goal - grip), axis=1)
+            achieved = grip
+        else:
+            cube = qpos[:, _CUBE]
+            obs = np.concatenate((qpos, qvel, grip, cube - grip, goal - cube), axis=1)
+            achieved = cube
+        return {
+            "observation": obs.astype(np.float32),
+            "achieved_goal": achieved.astype(np.float32),
+            "desired_goal": goal.astype(np.float32),
+        }

@@ -1,0 +1,274 @@
+"""The native vector env: N envs of one task stepped in one call, Gymnasium 1.x semantics.
+
+``gym.make_vec("UnifiedManip/<task>-v0", num_envs=N, ...)`` builds it where the task's
+family has a :class:`~.batched.BatchedBackend`. Everything outside the family's
+simulation is done here, over all N envs at once, with the single env's formulas in
+the single env's order, so that env ``i`` reproduces ``gym.make``'s env bit for bit:
+action validation and clipping, the ``sim_unstable`` handling, goal distance, success,
+reward terms, ``terminated``, the time limit, and the info entries.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from gymnasium import error, spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from ..config import EnvConfig
+from ..registry import get_task
+from ..rewards import INFO_KEYS, info_arrays, make_reward_spec
+from . import infos as vinfo
+from .batched import BatchedBackend
+
+
+class NativeVectorEnv(VectorEnv):
+    """N envs of one task under one action mode, as one Gymnasium ``VectorEnv``.
+
+    Args:
+        task_id: The registered ID.
+        batched: The family's batched backend holding the N simulations.
+        config: The validated env options (the same for every env).
+        max_episode_steps: The time limit (``truncated``), or None for none.
+        autoreset_mode: Gymnasium's ``AutoresetMode`` (default ``NEXT_STEP``, as
+            ``SyncVectorEnv``); ``SAME_STEP`` puts ``final_obs`` / ``final_info`` in the
+            info; ``DISABLED`` expects ``reset(options={"reset_mask": ...})``.
+
+    Observation: the single env's ``Dict``, batched (float32 ``(N, ...)`` arrays).
+    Info: a dict of ``(N,)`` arrays with ``_key`` masks, laid out as ``SyncVectorEnv``
+    lays out the single env's info dicts (``is_success``, the reward inputs,
+    ``sim_unstable``, the mode's diagnostics and ``reward_terms``).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(
+        self,
+        task_id: str,
+        batched: BatchedBackend,
+        config: EnvConfig,
+        max_episode_steps: int | None,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    ) -> None:
+        self._task_id = get_task(task_id).id
+        self.config = config
+        self.num_envs = n = batched.num_envs
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode, "render_fps": self.task.render_fps}
+        self.render_mode = config.render_mode
+        self.reward_spec = make_reward_spec(config.reward_type, self.task.kind)
+        self._threshold = self.task.distance_threshold
+        self._max_steps = max_episode_steps
+        self._batched = batched
+        obs = batched.observations()
+        self.single_observation_space = spaces.Dict(
+            {
+                key: spaces.Box(-np.inf, np.inf, shape=v.shape[1:], dtype=np.float32)
+                if v.dtype == np.float32
+                else spaces.Box(0, 255, shape=v.shape[1:], dtype=np.uint8)
+                for key, v in obs.items()
+            }
+        )
+        self.single_action_space = spaces.Box(-1.0, 1.0, shape=(batched.action_dim,), dtype=np.float32)
+        self.observation_space = batch_space(self.single_observation_space, n)
+        self.action_space = batch_space(self.single_action_space, n)
+        self._action_shape = (n, batched.action_dim)
+        self._rngs: list[np.random.Generator | None] = [None] * n
+        self._last_obs = obs
+        self._was_grasped = np.zeros(n)
+        self._elapsed = np.zeros(n, dtype=np.int64)
+        self._autoreset = np.zeros(n, dtype=bool)
+        self._needs_reset = True
+
+    @property
+    def task(self):
+        """The task's :class:`~unified_manip.registry.TaskSpec` (looked up by ID: specs
+        hold factories, so the env pickles the ID)."""
+        return get_task(self._task_id)
+
+    # ------------------------------------------------------------------ Gymnasium API
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
+        """Reset every env, or those in ``options["reset_mask"]``; env ``i`` is seeded
+        with ``seed + i`` (an int), ``seed[i]`` (a list) or not at all (None)."""
+        n = self.num_envs
+        if seed is None:
+            seeds: list[int | None] = [None] * n
+        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            seeds = [int(seed) + i for i in range(n)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != n:
+                raise ValueError(f"seed must be None, an int or a list of num_envs={n} seeds, got {len(seeds)} seeds")
+        mask = np.ones(n, dtype=bool)
+        if options is not None and "reset_mask" in options:
+            mask = options["reset_mask"]
+            if not isinstance(mask, np.ndarray) or mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
+                raise ValueError(f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}")
+        extra = {}
+        for i in np.flatnonzero(mask):
+            if seeds[i] is not None or self._rngs[i] is None:
+                self._rngs[i], _ = seeding.np_random(seeds[i])
+            extra = self._gather_extra(extra, self._batched.reset(int(i), self._rngs[i]), i)
+        obs = self._fresh_obs(mask)
+        g2o, grasped = self._batched.reward_state()
+        info = vinfo.merge({}, self._reset_info(obs, g2o, grasped, extra), mask)
+        self._was_grasped[mask] = grasped[mask]
+        self._elapsed[mask] = 0
+        self._autoreset[mask] = False
+        self._needs_reset = False
+        return self._copy(obs), info
+
+    def step(self, actions):
+        if self._needs_reset:
+            raise error.ResetNeeded("Cannot call step() before calling reset()")
+        a = self._validate(actions)
+        n = self.num_envs
+        if self.autoreset_mode == AutoresetMode.NEXT_STEP:
+            resetting = self._autoreset.copy()
+        else:
+            if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset.any():
+                i = int(np.flatnonzero(self._autoreset)[0])
+                raise ValueError(f"env {i} has ended its episode: reset it first (reset(options={{'reset_mask': ...}}))")
+            resetting = np.zeros(n, dtype=bool)
+        stepping = ~resetting
+        diagnostics = self._batched.step(a, np.flatnonzero(stepping)) if stepping.any() else {}
+        reset_extra: dict[str, np.ndarray] = {}
+        for i in np.flatnonzero(resetting):
+            reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
+        unstable = self._batched.unstable() & stepping
+        obs = self._batched.observations()
+        # A diverged simulator has no meaningful state: keep the last finite observation.
+        if unstable.any():
+            for key, value in obs.items():
+                value[unstable] = self._last_obs[key][unstable]
+        g2o, grasped = self._batched.reward_state()
+        step_g2o = np.where(unstable, 0.0, g2o)
+        step_grasped = np.where(unstable, 0.0, grasped)
+        ctx = {
+            "grip_to_object": step_g2o,
+            "grasped": step_grasped,
+            "dropped": ((self._was_grasped > 0.5) & (step_grasped < 0.5)).astype(np.float64),
+            "action_sq": (a[:, None, :] @ a[:, :, None])[:, 0, 0],  # == a_i @ a_i, bit for bit
+        }
+        # Same dtype path as compute_reward (and the single env), so they agree bit for bit.
+        distance = self.task.goal_distance(obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64))
+        success = (distance < self._threshold).astype(np.float64)
+        terms = self.reward_spec.terms_batch(distance, success, ctx)
+        reward = np.zeros(n)
+        for value in terms.values():
+            reward = reward + value
+        terminated = (success > 0.5) & self.config.terminate_on_success
+        self._elapsed[stepping] += 1
+        truncated = unstable.copy()
+        if self._max_steps is not None:
+            truncated |= self._elapsed >= self._max_steps
+        step_info = {**ctx, "sim_unstable": unstable, **diagnostics, "is_success": success, "reward_terms": terms}
+        self._was_grasped = np.where(resetting, grasped, step_grasped)
+        for i in np.flatnonzero(resetting):  # the step after an episode's end resets it
+            self._elapsed[i] = 0
+        reward[resetting] = 0.0
+        terminated &= stepping
+        truncated &= stepping
+        done = terminated | truncated
+        info: dict[str, Any] = {}
+        if self.autoreset_mode == AutoresetMode.SAME_STEP and done.any():
+            final = {int(i): {k: v[i].copy() for k, v in obs.items()} for i in np.flatnonzero(done)}
+            info = vinfo.merge(info, {"final_info": step_info}, done)
+            info["final_obs"], info["_final_obs"] = vinfo.objects(final, n), done.copy()
+            for i in np.flatnonzero(done):
+                reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
+            fresh = self._batched.observations()
+            for key, value in obs.items():
+                value[done] = fresh[key][done]
+            g2o, grasped = self._batched.reward_state()
+            self._was_grasped[done] = grasped[done]
+            self._elapsed[done] = 0
+            resetting = done
+            done = np.zeros(n, dtype=bool)
+        info = vinfo.merge(info, step_info, ~resetting)
+        info = vinfo.merge(info, self._reset_info(obs, g2o, grasped, reset_extra), resetting)
+        for key, value in obs.items():
+            self._last_obs[key] = value.copy()
+        self._autoreset = done
+        return self._copy(obs), reward, terminated, truncated, info
+
+    def render(self) -> tuple[np.ndarray | None, ...] | None:
+        if self.render_mode is None:
+            return None
+        return tuple(self._batched.render(i) for i in range(self.num_envs))
+
+    def close_extras(self, **kwargs: Any) -> None:
+        self._batched.close()
+
+    # ------------------------------------------------------------------ GoalEnv API, batched
+    def compute_reward(self, achieved_goal, desired_goal, info) -> np.ndarray:
+        """Reward for goals of shape ``(g,)`` or ``(B, g)``; equals ``step()``'s reward.
+
+        ``info`` is this env's info (a dict of ``(B,)`` arrays), one single-env info
+        dict, or a sequence / object array of ``B`` of them (``HerReplayBuffer``).
+        """
+        achieved_goal = np.asarray(achieved_goal, dtype=np.float64)
+        desired_goal = np.asarray(desired_goal, dtype=np.float64)
+        distance = self.task.goal_distance(achieved_goal, desired_goal)
+        success = (distance < self._threshold).astype(np.float64)
+        shape = np.shape(distance)
+        if isinstance(info, Mapping):
+            ctx = {k: np.broadcast_to(np.asarray(info.get(k, 0.0), dtype=np.float64), shape) for k in INFO_KEYS}
+        else:
+            ctx = info_arrays(info, shape)
+        return self.reward_spec.total(distance, success, ctx)
+
+    def compute_terminated(self, achieved_goal, desired_goal, info) -> np.ndarray:
+        distance = self.task.goal_distance(achieved_goal, desired_goal)
+        return np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+
+    # ------------------------------------------------------------------ helpers
+    def _validate(self, actions) -> np.ndarray:
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != self._action_shape:
+            raise ValueError(
+                f"actions must have shape {self._action_shape} (one row per env) for {self.task.id} with "
+                f"num_envs={self.num_envs}, action_mode={self.config.action_mode!r}; got shape {a.shape}"
+            )
+        finite = np.isfinite(a).all(axis=1)
+        if not finite.all():
+            i = int(np.flatnonzero(~finite)[0])
+            raise ValueError(f"action of env {i} must be finite, got {a[i].tolist()} (NaN or inf)")
+        return np.minimum(np.maximum(a, -1.0), 1.0)
+
+    def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
+        """The backend's observations where ``mask``, the last ones elsewhere."""
+        obs = self._batched.observations()
+        for key, value in obs.items():
+            value[~mask] = self._last_obs[key][~mask]
+            self._last_obs[key] = value.copy()
+        return obs
+
+    def _reset_info(self, obs, g2o, grasped, extra) -> dict[str, Any]:
+        n = self.num_envs
+        # As the single env's reset: success from the float32 goals.
+        success = (self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"]) < self._threshold).astype(np.float64)
+        return {
+            "is_success": success,
+            "grip_to_object": g2o,
+            "grasped": grasped,
+            "dropped": np.zeros(n),
+            "action_sq": np.zeros(n),
+            "sim_unstable": np.zeros(n, dtype=bool),
+            **extra,
+        }
+
+    def _gather_extra(self, out: dict[str, np.ndarray], values: Mapping[str, Any], i: int) -> dict[str, np.ndarray]:
+        """Collect one env's scalar extra-info entries into ``(N,)`` arrays."""
+        for key, value in values.items():
+            if key not in out:
+                out[key] = np.zeros(self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object)
+            out[key][i] = value
+        return out
+
+    @staticmethod
+    def _copy(obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        return {k: v.copy() for k, v in obs.items()}

@@ -1,0 +1,54 @@
+"""Info dicts of arrays, laid out exactly as Gymnasium's ``SyncVectorEnv`` lays them out.
+
+Gymnasium 1.x vector envs return one ``info`` dict whose entries are arrays over the
+envs, each with a boolean mask ``_key`` saying which envs reported it; a nested dict
+(``reward_terms``) is laid out the same way, one level down. :func:`merge` adds the
+entries of a group of envs (one array per key, rows selected by a mask), so the native
+vector env's infos compare equal, key for key and dtype for dtype, with
+``SyncVectorEnv``'s over the single env.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import numpy as np
+
+
+def merge(out: dict[str, Any], values: Mapping[str, Any], mask: np.ndarray) -> dict[str, Any]:
+    """Add ``values`` (``(N,)`` arrays, or mappings of them) at the envs where ``mask`` is True.
+
+    Args:
+        out: The info dict being built (modified and returned).
+        values: One ``(N,)`` array per key; rows outside ``mask`` are ignored. Float
+            entries should be float64 and flags bool, as Gymnasium makes them from
+            Python floats and bools.
+        mask: bool ``(N,)``.
+
+    Returns:
+        ``out``. Nothing is added when ``mask`` is all False.
+    """
+    if not mask.any():
+        return out
+    for key, value in values.items():
+        if isinstance(value, Mapping):
+            array = merge(out.get(key, {}), value, mask)
+        else:
+            array = out.get(key)
+            if array is None:
+                array = np.zeros(mask.shape + np.shape(value)[1:], dtype=np.asarray(value).dtype)
+            array[mask] = np.asarray(value)[mask]
+        seen = out.get(f"_{key}")
+        out[key] = array
+        out[f"_{key}"] = mask.copy() if seen is None else seen | mask
+    return out
+
+
+def objects(rows: Mapping[int, Any], num_envs: int) -> np.ndarray:
+    """An object array of ``num_envs`` with ``rows[i]`` at ``i`` and None elsewhere
+    (Gymnasium's layout of ``final_obs``)."""
+    out = np.full(num_envs, None, dtype=object)
+    for i, value in rows.items():
+        out[i] = value
+    return out
+
