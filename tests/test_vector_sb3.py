@@ -3,6 +3,11 @@ bit, HER through env_method("compute_reward"), VecNormalize, short SAC+HER and P
 
 from __future__ import annotations
 
+import csv
+import json
+import subprocess
+import sys
+
 import gymnasium as gym
 import numpy as np
 import torch
@@ -111,3 +116,21 @@ def test_ppo_smoke():
     model.learn(256)
     assert model.num_timesteps == 256
     env.close()
+
+
+def test_train_picks_and_runs_the_native_vector_env(tmp_path):
+    from unified_manip.vector.factory import resolve_vec
+
+    assert resolve_vec("auto", "UnifiedManip/Arm4Reach-v0", 2) == "native"  # --n-envs N alone
+    assert resolve_vec("auto", "UnifiedManip/Arm4Reach-v0", 1) == "dummy"
+    assert resolve_vec("auto", "UnifiedManip/Lift-v0", 4) == "subproc"
+    run = tmp_path / "run"
+    sets = ["n_steps=64", "batch_size=64", "n_epochs=1", "eval_freq=128", "n_eval_episodes=1", "checkpoint_freq=128"]
+    args = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "joint_delta", "--algo", "ppo", "--steps", "256",
+            "--n-envs", "2", "--vec", "native", "--run-dir", str(run), "--no-progress", *[a for s in sets for a in ("--set", s)]]
+    proc = subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((run / "status.json").read_text())["state"] == "finished"
+    with open(run / "monitor" / "seg0" / "native.monitor.csv") as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    assert len(rows) >= 4 and {row["l"] for row in rows} == {"50"} and "is_success" in rows[0]

@@ -15,6 +15,7 @@ from rich.table import Table
 from .config import REWARD_TYPES
 from .devices import DEVICES
 from .registry import TASKS
+from .vector.factory import VEC_KINDS
 
 
 class _Parser(argparse.ArgumentParser):
@@ -129,6 +130,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         steps=args.steps,
         seed=args.seed,
         n_envs=args.n_envs,
+        vec=args.vec,
         run_dir=Path(args.run_dir) if args.run_dir else None,
         overrides=tuple(args.set or ()),
         env_kwargs=dict(args.env_kwarg or ()),
@@ -252,7 +254,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--algo", required=True, choices=list(ALGOS))
     p.add_argument("--steps", type=_positive_int, required=True, help="total environment steps")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--n-envs", type=_positive_int, default=1, help="parallel envs (SubprocVecEnv when > 1)")
+    p.add_argument("--n-envs", type=_positive_int, default=1, help="parallel envs (see --vec)")
+    p.add_argument("--vec", choices=VEC_KINDS, default="auto",
+                   help="how the envs are stepped: native (the native vector env, on threads), dummy, subproc, or auto: "
+                        "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more")
     p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
     p.add_argument("--env-kwarg", action="append", type=_env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")

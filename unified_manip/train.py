@@ -61,12 +61,17 @@ class TrainRequest:
         algo: ``ppo``, ``sac``, ``td3``, ``sac_her`` or ``tqc_her``.
         steps: Total environment steps (over all envs).
         seed: Seed of the model and of the envs (env k gets ``seed + k``).
-        n_envs: Parallel envs; more than one runs them in a ``SubprocVecEnv``.
+        n_envs: Parallel envs, stepped as ``vec`` says.
         run_dir: Where the run lives.
         overrides: ``key=value`` hyperparameter overrides.
         env_kwargs: Extra env keyword arguments (e.g. ``robot``).
         device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
             ``device`` key, and ``auto`` where that has none.
+        vec: How the envs are stepped: ``native`` (the native vector env, through
+            :class:`~unified_manip.vector.sb3.NativeSB3VecEnv`), ``dummy`` (SB3's
+            ``DummyVecEnv``), ``subproc`` (``SubprocVecEnv``), or ``auto``: native where
+            the ID has a native vector env and ``n_envs > 1``, else dummy for one env
+            and subproc for more.
     """
 
     env: str
@@ -80,6 +85,7 @@ class TrainRequest:
     overrides: tuple[str, ...] = ()
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     device: str | None = None
+    vec: str = "auto"
 
     def __post_init__(self) -> None:
         if self.env not in TASKS:
@@ -99,6 +105,12 @@ class TrainRequest:
         for name in ("steps", "n_envs"):
             if getattr(self, name) <= 0:
                 raise TrainError(f"--{name.replace('_', '-')} must be positive, got {getattr(self, name)}")
+        from .vector.factory import resolve_vec
+
+        try:
+            resolve_vec(self.vec, self.env, self.n_envs)
+        except ValueError as err:
+            raise TrainError(str(err)) from None
 
     @property
     def directory(self) -> Path:
@@ -143,10 +155,21 @@ def package_versions() -> dict[str, str]:
 
 
 # ---------------------------------------------------------------------- env construction
-def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None):
-    """Monitor-wrapped envs (``is_success`` logged); a SubprocVecEnv when ``n_envs > 1``."""
+def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
+                 vec: str = "auto"):
+    """Monitored envs (``is_success`` logged), stepped as ``vec`` says: the native vector
+    env (one ``VecMonitor``), or a ``DummyVecEnv`` / ``SubprocVecEnv`` of ``Monitor``-ed
+    envs (see :func:`unified_manip.vector.factory.resolve_vec` for ``auto``)."""
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    from .vector.factory import resolve_vec
+
+    kind = resolve_vec(vec, env_id, n_envs)
+    if kind == "native":
+        from .vector.sb3 import make_monitored
+
+        return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
 
     return sb3_make_vec_env(
         f"unified_manip:{env_id}",  # workers import unified_manip, which registers the IDs
@@ -155,7 +178,7 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
         env_kwargs=env_kwargs,
         monitor_dir=str(monitor_dir) if monitor_dir else None,
         monitor_kwargs={"info_keywords": ("is_success",)},
-        vec_env_cls=SubprocVecEnv if n_envs > 1 else DummyVecEnv,
+        vec_env_cls=SubprocVecEnv if kind == "subproc" else DummyVecEnv,
     )
 
 
@@ -392,7 +415,7 @@ def train(
         for sub in ("monitor", "eval", "best", "tb"):
             shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
-    env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}")
+    env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec)
     stats = run_dir / "checkpoints" / ckpt["vecnormalize"] if ckpt and "vecnormalize" in ckpt else None
     if ckpt and params.get("normalize") and stats is None:
         raise TrainError(f"{run_dir}: the checkpoint has no observation statistics (vecnormalize); cannot resume a normalize run")

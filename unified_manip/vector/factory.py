@@ -29,6 +29,10 @@ BATCHED: dict[str, str] = {
 _UNSUPPORTED_RENDER_MODES = ("human",)
 
 
+#: How ``unified-manip train --vec`` steps its envs (``auto``: see :func:`resolve_vec`).
+VEC_KINDS: tuple[str, ...] = ("auto", "native", "dummy", "subproc")
+
+
 class VectorFallbackWarning(UserWarning):
     """An ID was vectorised with Gymnasium's ``SyncVectorEnv`` instead of natively."""
 
@@ -41,6 +45,25 @@ def native_support(task_id: str, render_mode: str | None = None) -> str | None:
     if render_mode in _UNSUPPORTED_RENDER_MODES:
         return f"render_mode={render_mode!r} needs a window per env"
     return None
+
+
+def resolve_vec(vec: str, task_id: str, n_envs: int) -> str:
+    """The vectorisation ``train`` uses: ``native``, ``dummy`` or ``subproc``.
+
+    ``auto`` is ``native`` where the ID has a native vector env and ``n_envs > 1``;
+    otherwise SB3's ``DummyVecEnv`` for one env and ``SubprocVecEnv`` for more.
+
+    Raises:
+        ValueError: ``vec`` is unknown, or ``native`` for an ID without a native vector env.
+    """
+    if vec not in VEC_KINDS:
+        raise ValueError(f"unknown vec {vec!r}; expected one of {', '.join(VEC_KINDS)}")
+    reason = native_support(task_id)
+    if vec == "native" and reason is not None:
+        raise ValueError(f"--vec native: {task_id} has no native vector env ({reason}); expected --vec auto, dummy or subproc")
+    if vec == "auto":
+        return "native" if reason is None and n_envs > 1 else ("subproc" if n_envs > 1 else "dummy")
+    return vec
 
 
 def make_vector_env(

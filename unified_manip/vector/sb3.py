@@ -15,13 +15,16 @@ indices=[0])`` is the batched ``compute_reward``.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any, Mapping, Sequence
 
+import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
 
 from .env import NativeVectorEnv
+from .factory import make_vector_env
 
 _SKIP = ("final_obs", "final_info")
 
@@ -125,3 +128,20 @@ class NativeSB3VecEnv(VecEnv):
 
     def _indices(self, indices: VecEnvIndices) -> list[int]:
         return list(self._get_indices(indices))
+
+
+def make_monitored(task_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
+                   info_keywords: tuple[str, ...] = ("is_success",)):
+    """What ``unified-manip train --vec native`` trains on: the adapter over ``n_envs``
+    native envs (env ``k`` seeded ``seed + k`` at the first reset, as SB3's
+    ``make_vec_env``), in a ``VecMonitor`` writing ``<monitor_dir>/native.monitor.csv``."""
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    spec = gym.spec(task_id)
+    venv = NativeSB3VecEnv(make_vector_env(n_envs, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, **env_kwargs))
+    venv.seed(seed)
+    filename = None
+    if monitor_dir is not None:
+        Path(monitor_dir).mkdir(parents=True, exist_ok=True)
+        filename = str(Path(monitor_dir) / "native")
+    return VecMonitor(venv, filename=filename, info_keywords=info_keywords)
