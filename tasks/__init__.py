@@ -1,11 +1,19 @@
-"""Task definitions, one module per family; importing a module registers its tasks.
+"""Task definitions, one package per family; importing this registers every task.
 
-This folder is installed as ``unified_manip.tasks``. To add a family, add a module
-here that defines a :class:`unified_manip.backend.Backend` and calls
-:func:`unified_manip.registry.register_task`, and import it below.
+This folder is installed as ``unified_manip.tasks``. Each family package
+(``arm4``, ``fetch``, ``shadow_hand``, ``robosuite_tasks``) defines ``SPECS``, its
+:class:`~unified_manip.registry.TaskSpec` tuple, without importing its simulator: a
+spec names its backend lazily, so the simulator is imported by the first ``gym.make``
+of one of the family's IDs. To add a family, add a package with a
+:class:`unified_manip.backend.Backend` and its ``SPECS``, and list it below.
 """
 
-from . import arm4  # noqa: F401
-from . import fetch  # noqa: F401
-from . import shadow_hand  # noqa: F401
-from . import robosuite_tasks  # noqa: F401
+from unified_manip.registry import register_task
+
+from . import arm4, fetch, robosuite_tasks, shadow_hand
+
+#: The families, in registration order (the order ``unified-manip list`` shows).
+FAMILIES = (arm4, fetch, shadow_hand, robosuite_tasks)
+
+for _spec in (spec for family in FAMILIES for spec in family.SPECS):
+    register_task(_spec)

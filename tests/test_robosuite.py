@@ -176,7 +176,11 @@ def test_nothing_written_to_home_or_site_packages(tmp_path):
 
 
 def test_debug_logging_brings_robosuite_messages_back():
-    code = "import logging; logging.basicConfig(level=logging.DEBUG); import unified_manip"
+    # robosuite is imported by the first gym.make of a robosuite ID.
+    code = (
+        "import logging; logging.basicConfig(level=logging.DEBUG); import gymnasium as gym, unified_manip; "
+        "gym.make('UnifiedManip/Lift-v0')"
+    )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert "No private macro file found" in proc.stderr
 

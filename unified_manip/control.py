@@ -27,6 +27,8 @@ import mink
 import mujoco
 import numpy as np
 
+from .physics import bad_state_warnings  # noqa: F401  (re-exported: it lived here)
+
 JOINT_MODES: tuple[str, ...] = ("joint_torque", "joint_position", "joint_delta", "joint_velocity")
 #: Modes whose arm actuators act as position servos.
 SERVO_MODES: tuple[str, ...] = ("joint_position", "joint_delta", "ee_delta")
@@ -399,13 +401,3 @@ def make_mujoco_control(rig: ArmRig, mode: str, target_rotation: Callable[[np.nd
     if mode == "ee_delta":
         return EndEffectorControl(rig, target_rotation, **ik_kwargs)
     return JointControl(rig, mode)
-
-
-_BAD_STATE = np.array(
-    [mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC], dtype=int
-)
-
-
-def bad_state_warnings(data: mujoco.MjData) -> int:
-    """How many times MuJoCo has found a diverged state (and reset it) so far."""
-    return int(data.warning.number[_BAD_STATE].sum())

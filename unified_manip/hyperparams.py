@@ -32,9 +32,20 @@ RUN_KEYS: dict[str, type] = {
     "device": str,  # auto | cpu | cuda; --device overrides it (where a run executes, not compared on resume)
 }
 
-#: Where the YAML files live: the repository's ``baselines/`` (an editable install or a
-#: source checkout); ``UNIFIED_MANIP_BASELINES`` points elsewhere.
-DEFAULT_DIR = Path(os.environ.get("UNIFIED_MANIP_BASELINES", Path(__file__).resolve().parents[1] / "baselines"))
+
+def _default_dir() -> Path:
+    """``UNIFIED_MANIP_BASELINES`` if set; else the files installed with the package
+    (``unified_manip/baselines/`` in a wheel); else the checkout's ``baselines/`` (an
+    editable install or a source tree)."""
+    if os.environ.get("UNIFIED_MANIP_BASELINES"):
+        return Path(os.environ["UNIFIED_MANIP_BASELINES"])
+    here = Path(__file__).resolve().parent
+    installed = here / "baselines"
+    return installed if installed.is_dir() else here.parent / "baselines"
+
+
+#: Where the YAML files live (see :func:`_default_dir`).
+DEFAULT_DIR = _default_dir()
 
 
 @dataclass(frozen=True)

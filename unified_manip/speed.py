@@ -218,3 +218,19 @@ def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0)
     ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
     mid = statistics.median(ratios)
     return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
+
+
+# ---------------------------------------------------------------------- import time
+def import_times(repeats: int = 10, modules: tuple[str, ...] = ("gymnasium", "unified_manip")) -> dict[str, float]:
+    """Median wall time, s, of ``python -c "import <module>"`` for each module, each a
+    fresh interpreter, run in turn (``repeats`` rounds) so that all see the same load."""
+    import subprocess
+    import sys
+
+    times: dict[str, list[float]] = {m: [] for m in modules}
+    for _ in range(repeats):
+        for m in modules:
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", f"import {m}"], check=True)
+            times[m].append(time.perf_counter() - start)
+    return {m: statistics.median(t) for m, t in times.items()}

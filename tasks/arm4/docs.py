@@ -1,0 +1,77 @@
+"""The 4-DOF arm tasks' documentation pages (``unified-manip list --doc``)."""
+
+from __future__ import annotations
+
+from unified_manip.config import ACTION_MODES
+
+_TABLE_HEAD = """\
+    =====  ==========================================  ==========
+    index  content                                     units
+    =====  ==========================================  ==========
+"""
+_TABLE_END = "    =====  ==========================================  ==========\n"
+
+REACH_DOC = f"""Arm4Reach: bring the 4-DOF arm's grip site to a goal point.
+
+The goal is sampled uniformly in x [0.30, 0.60], y [-0.25, 0.25], z [0.46, 0.65] m
+(world frame; the table top is z = 0.42). There is no object. Success: the grip site
+is within 5 cm of the goal. 50 steps of 20 ms.
+
+Observation (18,):
+{_TABLE_HEAD}    0-3    joint angles j0..j3                         rad
+    4-5    finger openings (left, right), 0 = closed   m
+    6-9    joint velocities j0..j3                     rad/s
+    10-11  finger velocities                           m/s
+    12-14  grip-site position (world)                  m
+    15-17  goal - grip site                            m
+{_TABLE_END}
+Goal (3,): achieved = grip-site position, desired = goal point, m.
+Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+Dense reward: reach = 1 - tanh(5 d), success bonus 10.
+Version history: v0 initial.
+"""
+
+_OBJECT_TABLE = f"""{_TABLE_HEAD}    0-3    joint angles j0..j3                         rad
+    4-5    finger openings (left, right), 0 = closed   m
+    6-8    cube position (world)                       m
+    9-12   cube orientation quaternion (w, x, y, z)
+    13-16  joint velocities j0..j3                     rad/s
+    17-18  finger velocities                           m/s
+    19-21  cube linear velocity                        m/s
+    22-24  cube angular velocity                       rad/s
+    25-27  grip-site position (world)                  m
+    28-30  cube - grip site                            m
+    31-33  goal - cube                                 m
+{_TABLE_END}"""
+
+PUSH_DOC = f"""Arm4Push: push the cube across the table to a goal on the table.
+
+The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m; the goal lies on the
+table top (z = 0.445, the cube's resting height) at x [0.35, 0.65], y [-0.15, 0.15] m,
+at least 10 cm from the cube. Success: the cube's centre is within 5 cm of the goal.
+100 steps of 20 ms.
+
+Observation (34,):
+{_OBJECT_TABLE}
+Goal (3,): achieved = cube centre, desired = goal point, m.
+Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d)) without a
+grasp gate, success bonus 10.
+Version history: v0 initial.
+"""
+
+PICK_AND_PLACE_DOC = f"""Arm4PickAndPlace: grasp the cube and carry it to a goal in the air.
+
+The design document's task. The cube starts at rest at x [0.40, 0.60],
+y [-0.10, 0.10] m; the goal is sampled in x [0.30, 0.50], y [0.10, 0.30],
+z [0.50, 0.60] m, i.e. 5.5-15.5 cm above the cube's resting height, as in the design.
+Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
+
+Observation (34,):
+{_OBJECT_TABLE}
+Goal (3,): achieved = cube centre, desired = goal point, m.
+Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
+success bonus 10; ``grasped`` means both fingers touch the cube.
+Version history: v0 initial.
+"""

@@ -1,0 +1,31 @@
+"""Reset distributions of the 4-DOF arm's tasks (world frame, metres)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .scene import CUBE_REST_Z
+
+OBJECT_XY_LOW, OBJECT_XY_HIGH = np.array([0.40, -0.10]), np.array([0.60, 0.10])
+REACH_GOAL_LOW, REACH_GOAL_HIGH = np.array([0.30, -0.25, 0.46]), np.array([0.60, 0.25, 0.65])
+PUSH_GOAL_XY_LOW, PUSH_GOAL_XY_HIGH = np.array([0.35, -0.15]), np.array([0.65, 0.15])
+PLACE_GOAL_LOW, PLACE_GOAL_HIGH = np.array([0.30, 0.10, 0.50]), np.array([0.50, 0.30, 0.60])
+#: Push goals are resampled until at least this far from the cube, m (not solved at reset).
+PUSH_MIN_DISTANCE = 0.1
+
+
+def sample_object_xy(rng: np.random.Generator) -> np.ndarray:
+    """Where the cube rests at reset."""
+    return rng.uniform(OBJECT_XY_LOW, OBJECT_XY_HIGH)
+
+
+def sample_goal(kind: str, rng: np.random.Generator, object_xy: np.ndarray | None) -> np.ndarray:
+    """The goal of a ``"reach"``, ``"push"`` or ``"grasp"`` task, drawn after the cube."""
+    if kind == "reach":
+        return rng.uniform(REACH_GOAL_LOW, REACH_GOAL_HIGH)
+    if kind == "push":
+        while True:
+            gxy = rng.uniform(PUSH_GOAL_XY_LOW, PUSH_GOAL_XY_HIGH)
+            if np.linalg.norm(gxy - object_xy) > PUSH_MIN_DISTANCE:
+                return np.array([gxy[0], gxy[1], CUBE_REST_Z])
+    return rng.uniform(PLACE_GOAL_LOW, PLACE_GOAL_HIGH)

@@ -1,0 +1,130 @@
+"""The Fetch backend: upstream's env object, with our action modes on an actuated copy
+of its model (see the package docs)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import mujoco
+import numpy as np
+from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
+from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
+
+from unified_manip.config import EnvConfig
+from unified_manip.control import ArmGains, ArmRig, make_mujoco_control
+
+from ..contacts import touches_both
+from ..upstream import UpstreamBackend
+from .model import actuated_model
+from .scene import (
+    ARM_ACTUATORS,
+    ARM_JOINTS,
+    FINGER_GEOMS,
+    FINGER_JOINTS,
+    FINGER_OPEN,
+    GRASP_RADIUS,
+    GRIP_SITE,
+    OBJECT_GEOM,
+    OBS_REL,
+)
+
+GAINS = ArmGains(kv_velocity=(50.0, 50.0, 50.0, 50.0, 20.0, 20.0, 10.0), max_velocity=1.0, max_delta=0.05, ee_step=0.05)
+
+
+class FixedRotation:
+    """The IK's target rotation: always the grip site's initial one (a picklable callable)."""
+
+    def __init__(self, rotation: np.ndarray) -> None:
+        self.rotation = rotation
+
+    def __call__(self, target: np.ndarray) -> np.ndarray:
+        return self.rotation
+
+
+class FetchBackend(UpstreamBackend):
+    """One Fetch task under one action mode (see the package docs).
+
+    Args:
+        config: The validated env config.
+        upstream_cls: The upstream env class, or its ``"module:Class"`` name.
+        kind: ``"reach"``, ``"push"`` or ``"grasp"``.
+    """
+
+    def __init__(self, config: EnvConfig, upstream_cls: type | str, kind: str) -> None:
+        super().__init__(config, upstream_cls, "Fetch", DEFAULT_CAMERA_CONFIG)
+        self.kind = kind
+        self.mode = config.action_mode
+        up = self._up
+        self._native = self.mode == "native"
+        if not self._native:
+            model = actuated_model(up.fullpath, up.initial_qpos, config.render_width, config.render_height)
+            up.model, up.data = model, mujoco.MjData(model)
+            up._model_names = MujocoModelNames(model)
+            mujoco.mj_resetData(up.model, up.data)
+            up.data.qpos[:] = up.initial_qpos
+            up.data.qvel[:] = up.initial_qvel
+            mujoco.mj_forward(up.model, up.data)
+            blocked = up.block_gripper  # Reach, Push, Slide: fingers held closed
+            self.rig = ArmRig(
+                up.model,
+                up.data,
+                joints=ARM_JOINTS,
+                actuators=ARM_ACTUATORS,
+                gripper_actuators=FINGER_JOINTS,
+                gripper_closed=0.0,
+                gripper_open=0.0 if blocked else FINGER_OPEN,
+                site=GRIP_SITE,
+                gains=GAINS,
+            )
+            rotation = up.data.site_xmat[self.rig.site_id].reshape(3, 3).copy()  # pointing down
+            self.control = make_mujoco_control(self.rig, self.mode, FixedRotation(rotation))
+            self.action_dim = self.control.action_dim
+        else:
+            self.action_dim = 4
+        m = up.model
+        self._arm_q = m.jnt_qposadr[[m.joint(j).id for j in ARM_JOINTS]]
+        self._arm_v = m.jnt_dofadr[[m.joint(j).id for j in ARM_JOINTS]]
+        if kind != "reach":
+            self._obj_geom = m.geom(OBJECT_GEOM).id
+            self._finger_geoms = tuple(m.geom(g).id for g in FINGER_GEOMS)
+
+    # -------------------------------------------------------------- episode
+    def after_reset(self) -> None:
+        if not self._native:
+            self.control.reset()
+            self.rig.set_gripper(-1.0)  # ctrl 0, as upstream's reset leaves it
+
+    def apply(self, action: np.ndarray) -> dict[str, Any]:
+        up = self._up
+        if self._native:
+            # Upstream clips in the action space's dtype (float32) and scales in it.
+            a = action.astype(np.float32)
+            up._set_action(a)
+            up._mujoco_step(a)
+            up._step_callback()
+            return {}
+        diagnostics = self.control(action)
+        up._mujoco_step(action)
+        return diagnostics
+
+    # -------------------------------------------------------------- observation
+    def observation(self) -> np.ndarray:
+        obs = self._obs["observation"]
+        if self._native or self.mode == "ee_delta":
+            return obs
+        d = self._up.data
+        return np.concatenate((obs, d.qpos[self._arm_q], d.qvel[self._arm_v]))
+
+    def reward_state(self) -> tuple[float, float]:
+        if self.kind == "reach":
+            return 0.0, 0.0
+        rel = self._obs["observation"][OBS_REL]  # object - grip, m
+        dist = math.sqrt(float(rel @ rel))
+        # Only a cube between the fingers can be held: skip the contact scan otherwise.
+        return dist, float(dist < GRASP_RADIUS and touches_both(self._up.data, self._obj_geom, *self._finger_geoms))
+
+    # -------------------------------------------------------------- pickling
+    def after_unpickle(self) -> None:
+        if not self._native:  # the rig and its controller point at the same model/data
+            self.rig.model, self.rig.data = self._up.model, self._up.data

@@ -1,0 +1,105 @@
+"""The Fetch tasks' documentation pages (``unified-manip list --doc``)."""
+
+from __future__ import annotations
+
+_MODES = """Action modes (action in [-1, 1]; the last entry commands the fingers, -1 closed,
++1 open, except on tasks whose gripper upstream blocks, where the fingers stay closed):
+    native          upstream's mocap control, unchanged: (dx, dy, dz, gripper), the
+                    mocap target moves 5 cm per unit; the gripper entry is upstream's
+                    relative finger command. The action is cast to float32 first, as
+                    upstream's action space does.
+    ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by mink
+                    IK on the 7 arm joints only (base and torso frozen), gripper kept
+                    pointing down.
+    joint_torque    7 arm torques (limits 150, 250, 150, 150, 80, 80, 60 N m) + gripper.
+    joint_position  7 absolute arm targets over the joint ranges (+-pi on the three
+                    unlimited roll joints) + gripper.
+    joint_delta     7 arm targets q + 0.05 a rad + gripper.
+    joint_velocity  7 arm velocities, 1 rad/s per unit + gripper.
+The non-native modes run on a copy of the model without the mocap weld, with position
+servos (kp 3000, 3000, 3000, 3000, 1500, 1500, 1000 N m/rad), gravity compensation on the arm and
+the base slides and torso frozen by joint equality constraints (see ``tasks/fetch/``).
+In the joint modes the observation gains 14 entries: the 7 arm angles (rad, shoulder
+pan, shoulder lift, upper-arm roll, elbow flex, forearm roll, wrist flex, wrist roll)
+and their velocities (rad/s). native and ee_delta keep upstream's vector exactly."""
+
+_OBJECT_OBS = """Observation (25,) in native and ee_delta (upstream's vector exactly; +14 in the joint
+modes, see below). Velocities are upstream's: displacement per env step (m or rad
+per 0.04 s).
+    0-2    grip-site position (world)                         m
+    3-5    object position (world)                            m
+    6-8    object - grip site                                 m
+    9-10   finger openings (right, left)                      m
+    11-13  object rotation, Euler xyz                         rad
+    14-16  object linear velocity relative to the grip site   m/step
+    17-19  object angular velocity                            rad/step
+    20-22  grip-site linear velocity                          m/step
+    23-24  finger velocities                                  m/step
+Goal (3,): achieved = object position, desired = goal point, m. Success: distance
+< 0.05 m (upstream's criterion); sparse reward = success - 1 = upstream's -(d > 0.05)."""
+
+_HISTORY = """Version history: v0 initial (over {upstream}, gymnasium-robotics 1.4.2)."""
+
+REACH_DOC = f"""FetchReach: bring the Fetch gripper to a goal point (gymnasium-robotics FetchReach-v4).
+
+The goal is the initial grip position (1.342, 0.749, 0.535) m plus a uniform offset in
+[-0.15, 0.15] m on each axis. No object; the gripper is blocked closed. Success: the
+grip site is within 5 cm of the goal. 50 steps of 40 ms (20 substeps of 2 ms).
+
+Observation (10,) in native and ee_delta (upstream's vector exactly; +14 in the joint
+modes). Velocities are displacement per env step.
+    0-2    grip-site position (world)                         m
+    3-4    finger openings (right, left)                      m
+    5-7    grip-site linear velocity                          m/step
+    8-9    finger velocities                                  m/step
+Goal (3,): achieved = grip-site position, desired = goal point, m.
+
+{_MODES}
+Dense reward: kind "reach": reach = 1 - tanh(5 d), success bonus 10.
+{_HISTORY.format(upstream="FetchReach-v4")}
+"""
+
+PUSH_DOC = f"""FetchPush: push a 5 cm cube (2 kg) across the table to a goal on the table
+(gymnasium-robotics FetchPush-v4).
+
+The cube starts within 15 cm (per axis) of the gripper's initial xy, at least 10 cm
+from it; the goal is within 15 cm (per axis) of the gripper's initial xy at the cube's
+resting height (z = 0.425). The gripper is blocked closed. 50 steps of 40 ms.
+
+{_OBJECT_OBS}
+
+{_MODES}
+Dense reward: kind "push": reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d))
+without a grasp gate, success bonus 10.
+{_HISTORY.format(upstream="FetchPush-v4")}
+"""
+
+SLIDE_DOC = f"""FetchSlide: hit a puck so that it slides along a low-friction table to a goal
+out of the arm's reach (gymnasium-robotics FetchSlide-v4).
+
+The puck starts within 10 cm (per axis) of the gripper's initial xy; the goal is
+0.4 m further in x plus a uniform offset within 30 cm (per axis), on the table
+(z = 0.42). The gripper is blocked closed. 50 steps of 40 ms.
+
+{_OBJECT_OBS}
+
+{_MODES}
+Dense reward: kind "push" (as FetchPush).
+{_HISTORY.format(upstream="FetchSlide-v4")}
+"""
+
+PICK_AND_PLACE_DOC = f"""FetchPickAndPlace: grasp a 5 cm cube (2 kg) and carry it to a goal, in the air
+half of the time (gymnasium-robotics FetchPickAndPlace-v4).
+
+The cube starts as in FetchPush; the goal is within 15 cm (per axis) of the
+gripper's initial xy at the cube's resting height, raised by U(0, 0.45) m with
+probability 1/2. The gripper is free. 50 steps of 40 ms.
+
+{_OBJECT_OBS}
+
+{_MODES}
+Dense reward: kind "grasp": reach = 1 - tanh(5 |grip - cube|), place = 5 grasped
+(1 - tanh(5 d)), success bonus 10; ``grasped`` means both fingers touch the cube
+(MuJoCo contacts) with the grip site within 5 cm of its centre.
+{_HISTORY.format(upstream="FetchPickAndPlace-v4")}
+"""

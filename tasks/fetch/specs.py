@@ -1,0 +1,44 @@
+"""The Fetch task specs (registered by ``unified_manip.tasks``)."""
+
+from __future__ import annotations
+
+from unified_manip.config import ACTION_MODES
+from unified_manip.lazy import lazy
+from unified_manip.registry import TaskSpec
+
+from ..scripted import EEDeltaPolicy
+from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
+from .policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
+
+_BACKEND = "unified_manip.tasks.fetch.backend:FetchBackend"
+_UPSTREAM = "gymnasium_robotics.envs.fetch.{module}:MujocoFetch{name}Env"
+
+#: Random steps per mode in the stability test: Fetch steps at ~300-400/s.
+STABILITY_STEPS = 1_000
+
+SPECS: tuple[TaskSpec, ...] = tuple(
+    TaskSpec(
+        name=f"Fetch{name}",
+        family="fetch",
+        kind=kind,
+        make_backend=lazy(_BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), kind=kind),
+        action_modes=ACTION_MODES,
+        goal_dim=3,
+        max_episode_steps=50,
+        distance_threshold=0.05,
+        doc=doc,
+        scripted_policy=EEDeltaPolicy("Fetch", policy),
+        scripted_min_success=min_success,
+        render_fps=25,
+        stability_steps=STABILITY_STEPS,
+        upstream_id=f"Fetch{name}-v4",
+        # gymnasium-robotics registers its IDs when imported: "module:ID" imports it.
+        make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:Fetch{name}-v4", disable_env_checker=True),
+    )
+    for name, module, kind, doc, policy, min_success in (
+        ("Reach", "reach", "reach", REACH_DOC, reach_policy, 0.9),
+        ("Push", "push", "push", PUSH_DOC, push_policy, 0.9),
+        ("Slide", "slide", "push", SLIDE_DOC, slide_policy, None),
+        ("PickAndPlace", "pick_and_place", "grasp", PICK_AND_PLACE_DOC, pick_and_place_policy, 0.9),
+    )
+)

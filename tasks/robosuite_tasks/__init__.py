@@ -1,0 +1,38 @@
+"""The robosuite family: Lift, Stack, PickPlaceCan, NutAssemblyRound and Door (robosuite 1.5.2).
+
+The backend owns one real robosuite env, built with ``robosuite.make`` exactly as a
+robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
+
+* **Seeding.** robosuite draws every random number of a reset (object placement, the
+  robot's initial-joint noise) from one ``numpy.random.Generator``, ``env.rng``, which
+  its placement samplers and robots share by reference. At every reset the backend
+  draws a 63-bit seed from the env's ``np_random`` and sets ``env.rng``'s bit-generator
+  state *in place* to ``default_rng(seed)``'s, then runs robosuite's reset; the desired
+  goal is then drawn from ``np_random``. Same seed, same episode, on any instance.
+* **One model.** robosuite samples a few model properties while building the model
+  (Lift's cube size); the env is built with ``seed=0`` so every instance has the same
+  model. With soft resets those properties stay fixed for the env's lifetime.
+* **Fast resets.** The env is built with ``hard_reset=False`` (robosuite resets the
+  existing simulator instead of recompiling the model: ~360 resets/s here instead of
+  ~5/s). With the in-place reseeding above this is exactly as deterministic.
+* **Pickling.** robosuite envs hold closures and their pickles are ~170 MB, so a
+  backend pickles as its config, the reset seed and goal of the current episode and
+  the actions played since; unpickling rebuilds the env and replays them, which is
+  exact because the rollouts are deterministic (and costs one step per step replayed).
+* **Rendering** (``render_mode="rgb_array"``, and the ``image`` observation with
+  ``camera_obs=True``) uses ``mujoco.Renderer`` on robosuite's model and data
+  (``MUJOCO_GL=egl`` headless), from robosuite's ``frontview`` and ``agentview`` cameras.
+
+Modules: :mod:`.options` (the ``robot`` and camera options), :mod:`.suite`
+(``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` (how each
+env becomes a goal task), :mod:`.backend`, :mod:`.policies`, :mod:`.docs`,
+:mod:`.specs`. Their names can also be imported from this package
+(``from unified_manip.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
+the family was one module; they are imported on first access.
+"""
+
+from unified_manip.lazy import reexport
+
+from .specs import SPECS
+
+__getattr__, __dir__ = reexport(__name__, ("options", "suite", "goals", "backend", "policies", "docs", "specs"))

@@ -1,0 +1,205 @@
+"""The robosuite backend: one real robosuite env, driven through its ``step``/``reset``
+(see the package docs for seeding, resets, pickling and rendering)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from unified_manip.backend import Backend
+from unified_manip.config import EnvConfig
+from unified_manip.control import IKJoints, MinkIK
+from unified_manip.physics import bad_state_warnings
+
+from .goals import TASK_DEFS
+from .options import validate_options
+from .suite import (
+    EE_ORIENTATION_COST,
+    EE_STEP,
+    EE_YIELD_ORIENTATION_COST,
+    EE_YIELD_RESIDUAL,
+    MAX_LEAD,
+    MAX_VELOCITY,
+    UNLIMITED_RANGE,
+    make_upstream,
+)
+
+#: The grasp check runs only while the grip site is this close to the object, m.
+GRASP_CHECK_RADIUS = 0.08
+
+
+class RobosuiteBackend(Backend):
+    """One robosuite task under one action mode (see the module docstring)."""
+
+    def __init__(self, config: EnvConfig, task: str) -> None:
+        if config.render_mode == "human":
+            raise ValueError("robosuite tasks render with render_mode None or 'rgb_array', not 'human'")
+        self.config = config
+        self.task_name = task
+        self.options = validate_options(dict(config.options))
+        self.task = TASK_DEFS[task]
+        self.mode = config.action_mode
+        up = make_upstream(self.task.env_name, self.options["robot"], self.mode)
+        self._up = up
+        self.dt = float(up.control_timestep)
+        self._substeps = int(round(up.control_timestep / up.model_timestep))
+        self.model: mujoco.MjModel = up.sim.model._model
+        self.data: mujoco.MjData = up.sim.data._data
+        robot = up.robots[0]
+        self._robot = robot
+        self._gripper = robot.gripper["right"]
+        self._grip_site = self.model.site(self._gripper.important_sites["grip_site"]).id
+        self.joints = IKJoints.from_model(
+            self.model, robot.robot_joints, self._gripper.important_sites["grip_site"], UNLIMITED_RANGE
+        )
+        self._grasp_object = self.task.grasp_object(up) if self.task.grasp_object else None
+        n = self.joints.n
+        self.action_dim = {"native": up.action_dim, "ee_delta": 4}.get(self.mode, n + 1)
+        self._command = np.zeros(up.action_dim)
+        self._mid = 0.5 * (self.joints.upper + self.joints.lower)
+        self._half = 0.5 * (self.joints.upper - self.joints.lower)
+        if self.mode == "ee_delta":
+            self.ik = MinkIK(self.model, self.joints, orientation_cost=EE_ORIENTATION_COST, iterations=2)
+            self.ik_yield = MinkIK(self.model, self.joints, orientation_cost=EE_YIELD_ORIENTATION_COST, iterations=2)
+        self._rotation = np.eye(3)
+        self._target = np.zeros(n)
+        self._goal = np.zeros(0)
+        self._obs: dict[str, np.ndarray] = {}
+        self._reward = 0.0
+        self._unstable = False
+        self._episode: tuple[int, np.ndarray] | None = None
+        self._log: list[np.ndarray | None] = []
+        self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+        for w, h in ((config.render_width, config.render_height), (self.options["camera_width"], self.options["camera_height"])):
+            self.model.vis.global_.offwidth = max(self.model.vis.global_.offwidth, w)
+            self.model.vis.global_.offheight = max(self.model.vis.global_.offheight, h)
+
+    # -------------------------------------------------------------- episode
+    def reset(self, np_random: np.random.Generator) -> None:
+        seed = int(np_random.integers(2**63))
+        self._reset_upstream(seed)
+        self._goal = np.asarray(self.task.sample_goal(self._up, np_random), dtype=np.float64)
+        self._episode = (seed, self._goal.copy())
+        self._log = []
+
+    def _reset_upstream(self, seed: int) -> None:
+        up = self._up
+        # In place: robosuite's placement samplers and robots hold this very generator.
+        up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
+        self._obs = up.reset()
+        self._reward = 0.0
+        self._unstable = False
+        if self.mode == "joint_torque":
+            # Controllers are rebuilt at every reset: map |a| = 1 to the actuator limits
+            # (robosuite's JOINT_TORQUE default maps it to 0.1 N m).
+            c = self._robot.part_controllers["right"]
+            c.output_max, c.output_min = c.actuator_max.copy(), c.actuator_min.copy()
+            c.action_scale = None
+        q = self.data.qpos[self.joints.qpos_adr]
+        self._target = q.copy()
+        self._rotation = self.task.held_rotation(self.data.site_xmat[self._grip_site].reshape(3, 3))
+
+    def step(self, action: np.ndarray) -> dict[str, Any]:
+        self._log.append(action.copy())
+        return self._step(action)
+
+    def _step(self, action: np.ndarray) -> dict[str, Any]:
+        diagnostics: dict[str, Any] = {}
+        if self.mode == "native":
+            command = action
+        else:
+            command = self._command.copy()
+            command[-1] = -action[-1]  # robosuite's GRIP: -1 open, +1 closed
+            arm = action[:-1]
+            j = self.joints
+            if self.mode == "joint_position":
+                command[:-1] = self._mid + arm * self._half
+            elif self.mode in ("joint_delta", "joint_torque"):
+                command[:-1] = arm
+            elif self.mode == "joint_velocity":
+                q = self.data.qpos[j.qpos_adr]
+                target = self._target + arm * (MAX_VELOCITY * self.dt)
+                target = np.minimum(np.maximum(target, q - MAX_LEAD), q + MAX_LEAD)
+                self._target = np.minimum(np.maximum(target, j.lower), j.upper)
+                command[:-1] = self._target
+            else:  # ee_delta
+                goal = self.data.site_xpos[self._grip_site] + arm * EE_STEP
+                q_arm, residual, limit_active = self.ik.solve(self.data.qpos, goal, self._rotation)
+                if residual > EE_YIELD_RESIDUAL:  # out of reach holding the orientation: tilt
+                    q_arm, residual, limit_active = self.ik_yield.solve(self.data.qpos, goal, self._rotation)
+                command[:-1] = q_arm
+                diagnostics = {"ik_residual": residual, "ik_limit_active": limit_active}
+        before = bad_state_warnings(self.data)
+        self._obs, self._reward, _, _ = self._up.step(command)
+        self._unstable = bad_state_warnings(self.data) > before
+        return diagnostics
+
+    def physics_step(self) -> None:
+        self._log.append(None)
+        mujoco.mj_step(self.model, self.data, self._substeps)
+
+    def unstable(self) -> bool:
+        return self._unstable
+
+    # -------------------------------------------------------------- observation
+    def observation(self) -> np.ndarray:
+        return np.concatenate((self._obs["robot0_proprio-state"], self._obs["object-state"]))
+
+    def achieved_goal(self) -> np.ndarray:
+        return self.task.achieved(self._up).copy()
+
+    def desired_goal(self) -> np.ndarray:
+        return self._goal
+
+    def grip_to_object(self) -> float:
+        rel = self.task.object_pos(self._up) - self.data.site_xpos[self._grip_site]
+        return math.sqrt(float(rel @ rel))
+
+    def reward_state(self) -> tuple[float, float]:
+        dist = self.grip_to_object()
+        if self._grasp_object is None or dist > GRASP_CHECK_RADIUS:  # skip the contact scan when far
+            return dist, 0.0
+        return dist, float(self._up._check_grasp(gripper=self._gripper, object_geoms=self._grasp_object))
+
+    def extra_info(self) -> dict[str, Any]:
+        return {"native_success": float(self._up._check_success()), "native_reward": float(self._reward)}
+
+    def extra_observations(self) -> dict[str, np.ndarray]:
+        if not self.options["camera_obs"]:
+            return {}
+        return {"image": self._render(self.options["camera_width"], self.options["camera_height"], "agentview")}
+
+    # -------------------------------------------------------------- rendering
+    def _render(self, width: int, height: int, camera: str) -> np.ndarray:
+        r = self._renderers.get((width, height))
+        if r is None:
+            r = self._renderers[(width, height)] = mujoco.Renderer(self.model, height, width)
+        r.update_scene(self.data, camera=camera)
+        return r.render()
+
+    def render(self) -> np.ndarray | None:
+        return self._render(self.config.render_width, self.config.render_height, "frontview")
+
+    def close(self) -> None:
+        for r in self._renderers.values():
+            r.close()
+        self._renderers = {}
+
+    # -------------------------------------------------------------- pickling
+    def __getstate__(self) -> dict[str, Any]:
+        return {"config": self.config, "task": self.task_name, "episode": self._episode, "log": list(self._log)}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__init__(state["config"], state["task"])
+        if state["episode"] is not None:
+            seed, goal = state["episode"]
+            self._reset_upstream(seed)
+            self._goal, self._episode = goal.copy(), (seed, goal.copy())
+            for action in state["log"]:
+                if action is None:
+                    self.physics_step()
+                else:
+                    self.step(action)

@@ -1,0 +1,185 @@
+"""The robosuite tasks' documentation pages (``unified-manip list --doc``)."""
+
+from __future__ import annotations
+
+_OPTIONS = """Options: ``robot`` (default "Panda"; also "Sawyer", "UR5e", "IIWA", "Kinova3",
+"Jaco"), ``camera_obs`` (default False: adds an ``image`` key, agentview RGB uint8 of
+``camera_height`` x ``camera_width``, default 84 x 84), ``camera_width``,
+``camera_height``. Unknown options raise TypeError, unknown robots ValueError."""
+
+_MODES = """Action modes (action in [-1, 1]; n = the robot's arm joints, 7 on Panda; in every
+mode but native the last entry commands the gripper, -1 closed, +1 open):
+    native          robosuite's default BASIC composite controller, unchanged: OSC_POSE
+                    (dx, dy, dz, droll, dpitch, dyaw; 5 cm and 0.5 rad per unit) + GRIP
+                    with robosuite's sign (-1 open, +1 closed). Same seed and actions give
+                    robosuite.make's observations and reward (``info["native_reward"]``).
+    ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by
+                    mink IK on the arm joints only (gripper orientation at reset held
+                    as a soft preference, cost 0.3; on Door it is turned to point at
+                    the door, see the task doc; where that leaves more than 5 mm of
+                    position error the step is re-solved with orientation cost 0.01, so
+                    the gripper tilts to reach further, e.g. PickPlaceCan's far bin),
+                    sent as absolute targets to robosuite's
+                    JOINT_POSITION controller (kp 150, critically damped, mass-matrix
+                    and gravity compensated). ``ik_residual`` (m) and ``ik_limit_active``
+                    go to ``info``.
+    joint_position  n absolute targets over the joint ranges (+-pi on continuous
+                    joints) + gripper, robosuite JOINT_POSITION (absolute input).
+    joint_delta     n targets q + 0.05 a rad + gripper, robosuite JOINT_POSITION (delta input).
+    joint_velocity  n joint velocities, 1 rad/s per unit + gripper. robosuite 1.5.2's
+                    JOINT_VELOCITY controller is broken (AttributeError on
+                    ``torque_compensation``), so this mode integrates the command into a
+                    position target, target += a * 1 rad/s * 0.05 s per step, kept within
+                    0.1 rad of the measured position (no wind-up) and the joint range, and
+                    tracks it with the JOINT_POSITION controller (absolute input).
+    joint_torque    n torques, a times the actuator limit (87/12 N m on Panda), plus
+                    robosuite's gravity compensation, JOINT_TORQUE controller + gripper."""
+
+_OBS = """Observation (float32): robosuite's ``robot0_proprio-state`` then ``object-state``.
+Proprio (Panda: 50): joint pos (n, rad), cos, sin (n each), joint vel (n, rad/s), joint
+acc (n, rad/s^2), eef position (3, m, world), eef quaternion xyzw (4), grip-site
+quaternion (4), gripper finger qpos (2 on Panda, m) and qvel (2, m/s). Other robots:
+Sawyer 50, UR5e 53, IIWA/Kinova3/Jaco 58 (grippers with more joints)."""
+
+_INFO = """Info adds ``native_success`` (1.0/0.0, robosuite's ``_check_success()``) and
+``native_reward`` (robosuite's own sparse reward for the step)."""
+
+_HISTORY = "Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz)."
+
+LIFT_DOC = f"""Lift: pick up a cube (2 cm half-size) and hold it at a goal point above the table
+(robosuite Lift).
+
+The cube starts within 3 cm of the table centre (robosuite's placement). Goal: a
+point x, y ~ U(-0.1, 0.1) m around the table centre, z ~ U(0.10, 0.20) m above the
+table top (table top at z = 0.8 m, world frame). Success: the cube centre is within
+5 cm of it. 100 steps of 50 ms.
+
+{_OBS}
+Object state (10): cube position (3, m), cube quaternion (4), grip site to cube (3, m).
+Goal (3,): achieved = cube centre, desired = goal point, world frame, m.
+
+Native success (robosuite): cube centre > 4 cm above the table top. Every goal is at
+least 10 cm up, so is_success implies native success; native success is looser (any
+lift counts).
+
+{_MODES}
+{_OPTIONS}
+{_INFO}
+Dense reward: kind "grasp" (reach, grasped-gated place, success bonus).
+{_HISTORY.format(env="Lift")}
+"""
+
+STACK_DOC = f"""Stack: put cube A (2 cm half-size, red) on top of cube B (2.5 cm half-size, green)
+(robosuite Stack).
+
+Both cubes start in a 16 x 16 cm square at the table centre. Goal: cube B's centre at
+reset plus 4.5 cm (the two half-sizes) in z: cube A resting on B. It is not sampled
+beyond the scene, whose placement comes from the env's seed. Success: cube A's centre
+within 2 cm of it. 200 steps of 50 ms.
+
+{_OBS}
+Object state (23): cube A position (3, m) and quaternion (4), cube B position (3) and
+quaternion (4), A - B (3, m), grip to A (3, m), grip to B (3, m).
+Goal (3,): achieved = cube A centre, desired = top of cube B at reset, m.
+
+Native success (robosuite): A lifted, touching B and not grasped. Differences by
+design: is_success does not require the gripper to let go, and is measured against
+B's position at reset (if B is pushed away the goal stays); native success needs
+contact with B wherever B is.
+
+{_MODES}
+{_OPTIONS}
+{_INFO}
+Dense reward: kind "grasp".
+{_HISTORY.format(env="Stack")}
+"""
+
+CAN_DOC = f"""PickPlaceCan: pick up a can from the left bin and place it in its quadrant of the right
+bin (robosuite PickPlaceCan).
+
+The can starts anywhere in bin 1. Goal: a point in the can's quadrant of bin 2
+(x in [0.10, 0.295], y in [0.28, 0.525] m) at least 5 cm from the quadrant's walls,
+5 cm above the bin floor (z = 0.85 m). Success: the can's centre within 5 cm of it.
+200 steps of 50 ms.
+
+{_OBS}
+Object state (14): can position (3, m), quaternion (4), can relative to the eef in
+the eef frame: position (3, m) and quaternion (4).
+Goal (3,): achieved = can centre, desired = goal point, m.
+
+Native success (robosuite): the can's centre inside its quadrant, between the bin
+floor and 10 cm above it, and the eef more than about 4.2 cm from the can (robosuite's
+r_reach < 0.6: the can has been let go). The goal keeps 5 cm from the walls and its z
+ball stays in (0.80, 0.90), so once the can is released, is_success implies native
+success; native success also counts any other point of the quadrant. Difference by
+design: is_success does not require letting go (a can held within 5 cm of the goal
+counts).
+
+Reach: the quadrant is the far one from the robot (Panda base at (-0.56, 0)); most of
+it is out of reach with the gripper pointing straight down, so ee_delta tilts the
+gripper there (see ee_delta below). Even tilted, the Panda cannot carry the can to the
+goals of the far corner (x > ~0.22 and y > ~0.45 m, more than ~0.91 m from the base in
+x-y): the scripted ee_delta policy fails there (about 6% of goals). The goal
+distribution is left as is: those goals are in the bin, and other robots reach further.
+
+{_MODES}
+{_OPTIONS}
+{_INFO}
+Dense reward: kind "grasp".
+{_HISTORY.format(env="PickPlaceCan")}
+"""
+
+NUT_DOC = f"""NutAssemblyRound: put the round nut on the round peg (robosuite NutAssemblyRound).
+
+The nut starts on the left of the table; the round peg is fixed at (0.23, -0.10) m.
+Goal: the peg's axis, at a height U(0.005, 0.02) m above the table top (z = 0.82 m)
+down the peg: the nut's body origin (ring centre) around the peg. Success: the nut's
+centre within 2 cm of it. 200 steps of 50 ms.
+
+{_OBS}
+Object state (14): nut position (3, m), quaternion (4), nut relative to the eef
+(3, m, and 4).
+Goal (3,): achieved = nut body position, desired = point on the peg, m.
+
+Native success (robosuite): the nut within 3 cm of the peg axis in x and y, below
+5 cm above the table, and the gripper more than about 4 cm away. Differences by
+design: is_success does not require the gripper to have let go.
+
+{_MODES}
+{_OPTIONS}
+{_INFO}
+Dense reward: kind "grasp".
+{_HISTORY.format(env="NutAssemblyRound")}
+"""
+
+DOOR_DOC = f"""Door: turn the latch handle and open the door to a target angle (robosuite Door,
+latch on).
+
+The door frame is placed at robosuite's randomised position. Goal: a hinge angle
+~ U(0.35, 0.40) rad (the hinge's range is [0, 0.4]). Success: |angle - goal| < 0.05 rad.
+150 steps of 50 ms.
+
+{_OBS}
+Object state (14): door position (3, m), handle position (3, m), hinge angle (rad),
+door - eef (3, m), handle - eef (3, m), handle (latch) angle (rad).
+Goal (1,): achieved = hinge angle, desired = target angle, rad.
+
+Native success (robosuite): hinge angle > 0.3 rad. Every goal is at least 0.35 rad,
+so is_success implies native success.
+
+The door opens towards the robot (+y) only once the latch is turned down past ~1.2 rad
+(the latch_joint's range is [-1.57, 1.57]) and must be held there until the latch
+clears the frame. ee_delta holds the gripper pointing at the door (-y) with its
+fingers one above the other, instead of pointing down: a downward hand hits the door
+panel and the handle's base. The scripted ee_delta policy closes the fingers, comes
+over the lever from the front, presses it down along its arc with the fingertips to
+~1.4 rad, then swings the pressed point about the hinge to the goal angle (friction on
+the lever drags the door).
+
+{_MODES}
+{_OPTIONS}
+{_INFO}
+Dense reward: kind "push": reach = 1 - tanh(5 |grip - handle|), place = 5 (1 - tanh(5 d))
+on the angle error d (rad) without a grasp gate, success bonus 10.
+{_HISTORY.format(env="Door")}
+"""

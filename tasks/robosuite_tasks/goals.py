@@ -1,0 +1,137 @@
+"""How each robosuite env becomes a goal task: achieved goal, goal sampling, object."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import mujoco
+import numpy as np
+
+
+@dataclass(frozen=True)
+class RobosuiteTask:
+    """How one robosuite env becomes a goal task.
+
+    Attributes:
+        env_name: robosuite's env name.
+        achieved: The achieved goal from the upstream env.
+        sample_goal: ``(upstream env, np_random) -> desired goal``, called after reset.
+        object_pos: The object the gripper must reach (for ``grip_to_object``).
+        grasp_object: The robosuite object whose grasp ``grasped`` reports, or None.
+        ee_turn: The gripper orientation ``ee_delta`` holds: the grip site's orientation
+            at reset turned by this rotation (a rotation vector in the world frame, rad).
+            Zero holds the reset orientation (gripper pointing down).
+    """
+
+    env_name: str
+    achieved: Callable[[Any], np.ndarray]
+    sample_goal: Callable[[Any, np.random.Generator], np.ndarray]
+    object_pos: Callable[[Any], np.ndarray]
+    grasp_object: Callable[[Any], Any] | None
+    ee_turn: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def held_rotation(self, reset_rotation: np.ndarray) -> np.ndarray:
+        """The grip-site rotation matrix ``ee_delta`` holds, given the one at reset."""
+        turn = np.asarray(self.ee_turn, dtype=np.float64)
+        angle = float(np.linalg.norm(turn))
+        if angle == 0.0:
+            return reset_rotation.copy()
+        quat, mat = np.zeros(4), np.zeros(9)
+        mujoco.mju_axisAngle2Quat(quat, turn / angle, angle)
+        mujoco.mju_quat2Mat(mat, quat)
+        return mat.reshape(3, 3) @ reset_rotation
+
+
+def _body_pos(attr: str):
+    def get(up) -> np.ndarray:
+        return up.sim.data._data.xpos[getattr(up, attr)]
+
+    return get
+
+
+def _obj_body_pos(name: str):
+    def get(up) -> np.ndarray:
+        return up.sim.data._data.xpos[up.obj_body_id[name]]
+
+    return get
+
+
+#: Lift: table top height and the desired-goal box above it.
+LIFT_XY, LIFT_Z = 0.1, (0.10, 0.20)
+
+
+def _lift_goal(up, rng: np.random.Generator) -> np.ndarray:
+    top = up.model.mujoco_arena.table_offset[2]
+    return np.array([rng.uniform(-LIFT_XY, LIFT_XY), rng.uniform(-LIFT_XY, LIFT_XY), top + rng.uniform(*LIFT_Z)])
+
+
+#: PickPlaceCan: margin kept from the quadrant's walls, and the goal height above the bin floor.
+CAN_MARGIN, CAN_Z = 0.05, 0.05
+
+
+def _can_quadrant(up) -> tuple[float, float, float, float]:
+    """x/y bounds of the can's quadrant of bin 2, as robosuite's ``not_in_bin``."""
+    bin_id = up.object_to_id["can"]
+    x_low, y_low = up.bin2_pos[0], up.bin2_pos[1]
+    if bin_id in (0, 2):
+        x_low -= up.bin_size[0] / 2
+    if bin_id < 2:
+        y_low -= up.bin_size[1] / 2
+    return x_low, x_low + up.bin_size[0] / 2, y_low, y_low + up.bin_size[1] / 2
+
+
+def _can_goal(up, rng: np.random.Generator) -> np.ndarray:
+    x0, x1, y0, y1 = _can_quadrant(up)
+    m = CAN_MARGIN
+    return np.array([rng.uniform(x0 + m, x1 - m), rng.uniform(y0 + m, y1 - m), up.bin2_pos[2] + CAN_Z])
+
+
+#: Stack: cube half-sizes (robosuite: A 2 cm, B 2.5 cm).
+STACK_HEIGHT = 0.02 + 0.025
+
+
+def _stack_goal(up, rng: np.random.Generator) -> np.ndarray:
+    return up.sim.data._data.xpos[up.cubeB_body_id] + np.array([0.0, 0.0, STACK_HEIGHT])
+
+
+#: NutAssemblyRound: the nut body's height above the table when it rests around the
+#: peg, and the sampled extra height along the peg.
+NUT_REST_Z, NUT_Z_RANGE = 0.0, (0.005, 0.02)
+
+
+def _nut_goal(up, rng: np.random.Generator) -> np.ndarray:
+    peg = up.sim.data._data.xpos[up.peg2_body_id]
+    return np.array([peg[0], peg[1], up.table_offset[2] + NUT_REST_Z + rng.uniform(*NUT_Z_RANGE)])
+
+
+#: Door: the target hinge angle range, rad (the hinge's range is [0, 0.4]).
+DOOR_GOAL = (0.35, 0.40)
+
+
+def _door_goal(up, rng: np.random.Generator) -> np.ndarray:
+    return np.array([rng.uniform(*DOOR_GOAL)])
+
+
+def _door_angle(up) -> np.ndarray:
+    return up.sim.data._data.qpos[up.hinge_qpos_addr : up.hinge_qpos_addr + 1]
+
+
+def _door_handle(up) -> np.ndarray:
+    return up.sim.data._data.site_xpos[up.door_handle_site_id]
+
+
+TASK_DEFS: dict[str, RobosuiteTask] = {
+    "Lift": RobosuiteTask("Lift", _body_pos("cube_body_id"), _lift_goal, _body_pos("cube_body_id"), lambda up: up.cube),
+    "Stack": RobosuiteTask("Stack", _body_pos("cubeA_body_id"), _stack_goal, _body_pos("cubeA_body_id"), lambda up: up.cubeA),
+    "PickPlaceCan": RobosuiteTask(
+        "PickPlaceCan", _obj_body_pos("Can"), _can_goal, _obj_body_pos("Can"), lambda up: up.objects[up.object_id]
+    ),
+    "NutAssemblyRound": RobosuiteTask(
+        "NutAssemblyRound", _obj_body_pos("RoundNut"), _nut_goal, _obj_body_pos("RoundNut"), lambda up: up.nuts[1]
+    ),
+    # The gripper points at the door (a quarter turn about world x), its fingers one above
+    # the other: pointing down, the hand hits the door panel and the handle's base.
+    "Door": RobosuiteTask("Door", _door_angle, _door_goal, _door_handle, None, ee_turn=(-math.pi / 2, 0.0, 0.0)),
+}

@@ -1,0 +1,46 @@
+"""The robosuite task specs (registered by ``unified_manip.tasks``)."""
+
+from __future__ import annotations
+
+from unified_manip.config import ACTION_MODES
+from unified_manip.lazy import lazy
+from unified_manip.registry import TaskSpec
+
+from ..scripted import EEDeltaPolicy
+from .docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from .policies import can_policy, door_policy, lift_policy
+
+_PACKAGE = "unified_manip.tasks.robosuite_tasks"
+
+#: Random steps per mode in the stability test, and episodes of the scripted-policy
+#: test: robosuite steps at ~100-200/s here.
+STABILITY_STEPS = 300
+SCRIPTED_EPISODES = 50
+
+SPECS: tuple[TaskSpec, ...] = tuple(
+    TaskSpec(
+        name=name,
+        family="robosuite",
+        kind=kind,
+        make_backend=lazy(f"{_PACKAGE}.backend:RobosuiteBackend", task=name),
+        action_modes=ACTION_MODES,
+        goal_dim=goal_dim,
+        max_episode_steps=steps,
+        distance_threshold=threshold,
+        doc=doc,
+        scripted_policy=EEDeltaPolicy("robosuite", policy) if policy else None,
+        scripted_min_success=min_success,
+        render_fps=20,
+        scripted_episodes=SCRIPTED_EPISODES,
+        stability_steps=STABILITY_STEPS,
+        upstream_id=f"robosuite:{name}",
+        make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native"),
+    )
+    for name, kind, goal_dim, steps, threshold, doc, policy, min_success in (
+        ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
+        ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, None, None),
+        ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
+        ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
+        ("Door", "push", 1, 150, 0.05, DOOR_DOC, door_policy, 0.8),
+    )
+)

@@ -1,0 +1,42 @@
+"""The Shadow Hand task specs (registered by ``unified_manip.tasks``)."""
+
+from __future__ import annotations
+
+from unified_manip.lazy import lazy
+from unified_manip.registry import TaskSpec, euclidean
+
+from .docs import BLOCK_DOC, REACH_DOC
+from .goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
+
+ACTION_MODES = ("joint_delta", "native")
+_BACKEND = "unified_manip.tasks.shadow_hand.backend:HandBackend"
+_UPSTREAM = "gymnasium_robotics.envs.shadow_dexterous_hand"
+
+#: Random steps per mode in the stability test (the hand steps at a few hundred/s).
+STABILITY_STEPS = 1_000
+
+SPECS: tuple[TaskSpec, ...] = tuple(
+    TaskSpec(
+        name=name,
+        family="shadow_hand",
+        kind=kind,
+        make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", kind=kind),
+        action_modes=ACTION_MODES,
+        goal_dim=goal_dim,
+        max_episode_steps=steps,
+        distance_threshold=threshold,
+        doc=doc,
+        goal_distance=distance,
+        render_fps=25,
+        stability_steps=STABILITY_STEPS,
+        upstream_id=upstream_id,
+        make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),
+    )
+    for name, kind, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
+        ("HandReach", "reach", "reach:MujocoHandReachEnv", "HandReach-v3", 15, 50, 0.01, REACH_DOC, euclidean),
+        (
+            "HandManipulateBlock", "push", "manipulate_block:MujocoHandBlockEnv", "HandManipulateBlock-v1",
+            7, 100, BLOCK_POSITION_THRESHOLD, BLOCK_DOC, block_goal_distance,
+        ),
+    )
+)

@@ -1,0 +1,99 @@
+"""The package as users get it: a wheel that works outside the checkout, and an import
+that registers every ID without loading any simulator."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import sysconfig
+import tomllib
+from pathlib import Path
+
+import unified_manip
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Third-party packages that ``import unified_manip`` must not import.
+HEAVY = ("mujoco", "robosuite", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
+
+
+def _python(code: str, cwd: Path | None = None, python: str = sys.executable) -> str:
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    proc = subprocess.run([python, "-c", code], capture_output=True, text=True, cwd=cwd, env=env, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_every_package_is_listed_in_pyproject():
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {"unified_manip.baselines"}  # data only: no __init__.py
+    for top, name in ((ROOT / "unified_manip", "unified_manip"), (ROOT / "tasks", "unified_manip.tasks")):
+        for init in top.rglob("__init__.py"):
+            rel = init.parent.relative_to(top).parts
+            found.add(".".join((name, *rel)))
+    assert sorted(found - listed) == [], "add these packages to [tool.setuptools] packages in pyproject.toml"
+    assert sorted(listed - found) == []
+
+
+def test_import_registers_every_id_without_loading_a_simulator():
+    out = _python(
+        "import sys, unified_manip\n"
+        f"print(len(unified_manip.TASKS), [m for m in {HEAVY!r} if m in sys.modules])"
+    )
+    assert out.split(maxsplit=1) == [str(len(unified_manip.TASKS)), "[]\n"]
+
+
+def test_make_loads_only_its_family_simulator():
+    code = (
+        "import sys, gymnasium as gym, unified_manip\n"
+        "gym.make('UnifiedManip/Arm4Reach-v0', action_mode='ee_delta')\n"
+        "print(sorted(m for m in ('robosuite', 'torch', 'stable_baselines3') if m in sys.modules))\n"
+        "gym.make('UnifiedManip/Lift-v0')\n"
+        "print('robosuite' in sys.modules)"
+    )
+    assert _python(code).splitlines() == ["[]", "True"]
+
+
+def _copy_source(dest: Path) -> None:
+    """What the wheel is built from: the working tree's package sources, without results."""
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy2(ROOT / name, dest / name)
+    ignore = shutil.ignore_patterns("__pycache__", "results", "*.egg-info")
+    for name in ("unified_manip", "tasks", "baselines"):
+        shutil.copytree(ROOT / name, dest / name, ignore=ignore)
+
+
+def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_path):
+    src, dist, venv, work = (tmp_path / d for d in ("src", "dist", "venv", "work"))
+    src.mkdir()
+    work.mkdir()
+    _copy_source(src)
+    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
+    subprocess.run([*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
+                   check=True, capture_output=True, timeout=300)
+    (wheel,) = dist.glob("unified_manip-*.whl")
+    # A fresh venv that sees this venv's third-party packages (no download) through a
+    # .pth line. Only a site directory's own .pth files run, so this venv's editable
+    # install of the checkout stays invisible there.
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
+    python = str(venv / "bin" / "python")
+    site = _python("import sysconfig; print(sysconfig.get_paths()['purelib'])", python=python).strip()
+    Path(site, "_checkout_deps.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    subprocess.run([*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
+                   check=True, capture_output=True, timeout=300)
+
+    where = _python("import unified_manip, unified_manip.hyperparams as h; print(unified_manip.__file__); "
+                    "print(h.DEFAULT_DIR)", cwd=work, python=python).splitlines()
+    assert all(line.startswith(site) for line in where), where
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    proc = subprocess.run(
+        [str(venv / "bin" / "unified-manip"), "train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac_her",
+         "--action-mode", "ee_delta", "--steps", "200", "--set", "learning_starts=100", "--set", "buffer_size=1000",
+         "--run-dir", "run", "--no-progress", "--device", "cpu"],
+        cwd=work, env=env, capture_output=True, text=True, timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    status = json.loads((work / "run" / "status.json").read_text())
+    assert status["state"] == "finished" and status["num_timesteps"] == 200
