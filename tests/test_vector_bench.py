@@ -16,7 +16,7 @@ def test_benchmark_runs_every_kind(tmp_path, capsys):
     assert all(row[kind] > 0 for kind in bench.KINDS)
     assert set(row["physics"]) == {"thread pool", "mujoco.rollout"}
     printed = capsys.readouterr().out
-    assert "| joint_position | 2 |" in printed and "native / raw limit" in printed and "pool / rollout" in printed
+    assert "| joint_position | 2 | 2 |" in printed and "native / raw limit" in printed and "pool / rollout" in printed
 
 
 def test_benchmark_bad_input_is_one_line(capsys):

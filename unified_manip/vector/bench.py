@@ -144,51 +144,54 @@ def physics_rates(task_id: str, mode: str, n: int, threads: int, steps: int) -> 
     return {"thread pool": pool_rate, "mujoco.rollout": rollout_rate}
 
 
-def run(task_id: str, modes, sizes, kinds, threads: int, steps: int, rounds: int, physics: bool,
+def run(task_id: str, modes, sizes, kinds, threads, steps: int, rounds: int, physics: bool,
         progress: Callable[[str], None] = lambda s: None) -> list[dict[str, Any]]:
-    """Every mode x N x kind, plus the raw limit per mode: a list of result rows."""
+    """Every mode x N x thread count x kind, plus the raw limit per mode: result rows.
+
+    ``threads`` is a list of thread counts of the native env (the other kinds do not use
+    threads; they are measured again beside each count)."""
     rows = []
     for mode in modes:
         raw = statistics.median(raw_rate(task_id, mode, steps) for _ in range(rounds))
         progress(f"{mode}: raw physics {raw:,.0f} env steps/s on one thread")
         for n in sizes:
-            samples: dict[str, list[float]] = {k: [] for k in kinds}
-            for r in range(rounds):
-                order = kinds[r % len(kinds):] + kinds[: r % len(kinds)]
-                for kind in order:
-                    samples[kind].append(vector_rate(kind, task_id, mode, n, threads, steps))
-            rates = {k: statistics.median(v) for k, v in samples.items()}
-            row = {"task": task_id, "mode": mode, "num_envs": n, "threads": threads, "raw_one_thread": raw,
-                   "raw_limit": raw * threads, **rates}
-            if physics:
-                row["physics"] = physics_rates(task_id, mode, n, threads, steps)
-            rows.append(row)
-            progress(f"{mode} N={n}: " + ", ".join(f"{k} {v:,.0f}" for k, v in rates.items()))
+            for t in threads:
+                samples: dict[str, list[float]] = {k: [] for k in kinds}
+                for r in range(rounds):
+                    order = kinds[r % len(kinds):] + kinds[: r % len(kinds)]
+                    for kind in order:
+                        samples[kind].append(vector_rate(kind, task_id, mode, n, t, steps))
+                rates = {k: statistics.median(v) for k, v in samples.items()}
+                row = {"task": task_id, "mode": mode, "num_envs": n, "threads": t, "raw_one_thread": raw,
+                       "raw_limit": raw * t, **rates}
+                if physics:
+                    row["physics"] = physics_rates(task_id, mode, n, t, steps)
+                rows.append(row)
+                progress(f"{mode} N={n} threads={t}: " + ", ".join(f"{k} {v:,.0f}" for k, v in rates.items()))
     return rows
 
 
 def table(rows: list[dict[str, Any]]) -> str:
     """The results as a Markdown table (env steps/s, and the native env's ratios)."""
     kinds = [k for k in KINDS if k in rows[0]]
-    head = ["mode", "N", *kinds]
+    head = ["mode", "N", "threads", *kinds]
     ratios = [(f"native / {k}", k) for k in ("sync", "subproc") if k in kinds and "native" in kinds]
     head += [name for name, _ in ratios] + (["native / raw limit"] if "native" in kinds else [])
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for row in rows:
-        cells = [row["mode"], str(row["num_envs"]), *(f"{row[k]:,.0f}" for k in kinds)]
+        cells = [row["mode"], str(row["num_envs"]), str(row["threads"]), *(f"{row[k]:,.0f}" for k in kinds)]
         cells += [f"{row['native'] / row[k]:.2f}" for _, k in ratios]
         if "native" in kinds:
             cells.append(f"{row['native'] / row['raw_limit']:.2f}")
         lines.append("| " + " | ".join(cells) + " |")
-    threads = rows[0]["threads"]
     lines.append("")
-    lines.append(f"Raw limit = {threads} x the single-thread physics rate: "
-                 + ", ".join(f"{r['mode']} {r['raw_one_thread']:,.0f}/s" for r in rows if r["num_envs"] == rows[0]["num_envs"]) + ".")
+    lines.append("Raw limit = threads x the single-thread physics rate: "
+                 + ", ".join(sorted({f"{r['mode']} {r['raw_one_thread']:,.0f}/s" for r in rows})) + ".")
     if "physics" in rows[0]:
-        lines += ["", "| mode | N | physics: thread pool | mujoco.rollout | pool / rollout |", "|---|---|---|---|---|"]
+        lines += ["", "| mode | N | threads | physics: thread pool | mujoco.rollout | pool / rollout |", "|---|---|---|---|---|---|"]
         for row in rows:
             p = row["physics"]
-            lines.append(f"| {row['mode']} | {row['num_envs']} | {p['thread pool']:,.0f} | {p['mujoco.rollout']:,.0f} | "
+            lines.append(f"| {row['mode']} | {row['num_envs']} | {row['threads']} | {p['thread pool']:,.0f} | {p['mujoco.rollout']:,.0f} | "
                          f"{p['thread pool'] / p['mujoco.rollout']:.2f} |")
     return "\n".join(lines)
 
@@ -211,7 +214,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes")
     p.add_argument("--num-envs", type=_csv(int), default=[1, 2, 4, 8, 16, 32], help="comma-separated N")
     p.add_argument("--kinds", type=_csv(str), default=list(KINDS), help=f"comma-separated, from {','.join(KINDS)}")
-    p.add_argument("--threads", type=int, default=default_num_threads(), help="threads of the native env (default: the usable cores)")
+    p.add_argument("--threads", type=_csv(int), default=[default_num_threads()],
+                   help="comma-separated thread counts of the native env (default: the usable cores); several give the scaling")
     p.add_argument("--steps", type=int, default=3000, help="env steps per measurement (over all N envs)")
     p.add_argument("--rounds", type=int, default=3, help="measurements per figure (the median is reported)")
     p.add_argument("--physics", action="store_true", help="also time the physics alone: thread pool against mujoco.rollout")
@@ -227,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
         problems.append(f"--modes must be from {', '.join(unified_manip.TASKS[args.env].action_modes)}, got {','.join(args.modes)}")
     if bad:
         problems.append(f"unknown kinds {bad}; expected from {', '.join(KINDS)}")
-    if min(args.num_envs, default=0) < 1 or args.threads < 1 or args.steps < 1 or args.rounds < 1:
+    if min(args.num_envs, default=0) < 1 or min(args.threads, default=0) < 1 or args.steps < 1 or args.rounds < 1:
         problems.append("--num-envs, --threads, --steps and --rounds must be positive")
     if problems:
         print(f"error: {problems[0]}", file=sys.stderr)
