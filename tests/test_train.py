@@ -18,6 +18,7 @@ import pytest
 import yaml
 
 import unified_manip
+from unified_manip import checkpoints
 from unified_manip.hyperparams import ALGOS, HyperparameterError, resolve
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -114,13 +115,11 @@ def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
 
 # ---------------------------------------------------------------------- resume
 def _wait_for_checkpoint(run_dir: Path, min_steps: int, proc: subprocess.Popen, timeout: float = 600) -> int:
-    latest = run_dir / "checkpoints" / "latest.json"
     deadline = time.time() + timeout
     while time.time() < deadline:
-        if latest.is_file():
-            steps = json.loads(latest.read_text())["num_timesteps"]
-            if steps >= min_steps:
-                return steps
+        latest = checkpoints.newest(run_dir)
+        if latest is not None and latest.step >= min_steps:
+            return latest.step
         assert proc.poll() is None, proc.communicate()
         time.sleep(0.2)
     raise AssertionError("no checkpoint appeared")
@@ -148,7 +147,7 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     if how == "interrupt":
         assert proc.returncode == 130
         assert "interrupted at step" in out
-        checkpoint = json.loads((run_dir / "checkpoints" / "latest.json").read_text())["num_timesteps"]
+        checkpoint = checkpoints.newest(run_dir).step
     assert not (run_dir / "final_model.zip").exists()
 
     resumed = cli(*args)

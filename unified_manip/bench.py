@@ -17,7 +17,9 @@ algorithms x seeds, the budget and the evaluation schedule::
       - {algo: ppo, reward_type: sparse}
 
 Each run is the ``train`` command's run, in ``<out>/runs/<run name>``. Re-running a bench
-skips finished runs and resumes unfinished ones from their checkpoints. A run that
+skips finished runs and resumes unfinished ones from their checkpoints. One bench at a
+time owns ``<out>`` (a second is refused), and the worker that trains a run owns that
+run's directory, so a retried run never writes beside an attempt still alive. A run that
 crashes is retried up to ``retries`` times and then recorded as failed with its error;
 it never blocks the rest. ``<out>/results.csv`` gets one row per *finished* run, and is
 rewritten atomically after every run, so it never holds a half-written run.
@@ -41,6 +43,12 @@ import yaml
 from .config import REWARD_TYPES
 from .hyperparams import ALGOS, get_algo, resolve
 from .registry import TASKS
+from .runlock import DirectoryLock
+
+#: How long a run waits for its directory when another process still owns it (an
+#: earlier attempt on a Ray node that has not noticed it was given up on, or a stray
+#: ``train``) before it is refused and counted as a failed attempt.
+RUN_LOCK_WAIT_S = 60.0
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
 OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only")
@@ -174,7 +182,7 @@ def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = 
         env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
         steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides, device=device,
     )
-    train(req, argv=None, progress=False, log=lambda msg: None, threads=threads)
+    train(req, argv=None, progress=False, log=lambda msg: None, threads=threads, lock_wait_s=RUN_LOCK_WAIT_S)
     row = collect_row(run_dir)
     if row is None:
         raise RuntimeError(f"{run_dir} did not finish")
@@ -267,7 +275,10 @@ def run_grid(
     """Run every run of ``grid`` that is not finished yet; return a summary.
 
     ``device`` (auto, cpu or cuda) applies to every run; it is checked here, before any
-    run starts, so ``cuda`` without a GPU fails once and not once per run."""
+    run starts, so ``cuda`` without a GPU fails once and not once per run.
+
+    Raises :class:`~unified_manip.runlock.DirectoryInUse` if another bench owns ``out_dir``.
+    """
     if device is not None:
         from .devices import DeviceError, resolve_device
 
@@ -276,7 +287,12 @@ def run_grid(
         except DeviceError as err:
             raise GridError(str(err)) from None
     out_dir = Path(out_dir).resolve()
-    out_dir.mkdir(parents=True, exist_ok=True)
+    with DirectoryLock(out_dir, "bench directory"):
+        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, command, on_event, device)
+
+
+def _run_owned(grid: Grid, out_dir: Path, executor: str, workers: int | None, address: str | None, retries: int,
+               progress: bool, command: str | None, on_event, device: str | None) -> dict[str, Any]:
     (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
     if command:
         (out_dir / "command.txt").write_text(command + "\n")

@@ -135,6 +135,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         overrides=tuple(args.set or ()),
         env_kwargs=dict(args.env_kwarg or ()),
         device=args.device,
+        restart=args.restart,
     )
     try:
         train(req, argv=["unified-manip", *sys.argv[1:]], progress=not args.no_progress)
@@ -263,6 +264,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--env-kwarg", action="append", type=_env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--device", choices=DEVICES, help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto")
+    p.add_argument("--restart", action="store_true", help="start the run over from step 0 (discards its checkpoints, logs and models)")
     p.set_defaults(func=cmd_train)
 
     p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
@@ -317,13 +319,14 @@ def _positive_int(value: str) -> int:
 def main(argv: list[str] | None = None) -> int:
     from .bench import GridError
     from .hyperparams import HyperparameterError
+    from .runlock import DirectoryInUse
     from .train import TrainError
 
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (TrainError, HyperparameterError, GridError, FileNotFoundError) as err:
+    except (TrainError, HyperparameterError, GridError, DirectoryInUse, FileNotFoundError) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
 

@@ -8,16 +8,19 @@ A run directory holds everything about one run::
     tb/                  TensorBoard events
     eval/evaluations.npz periodic evaluation (EvalCallback): returns and successes
     best/best_model.zip  the best evaluated model
-    checkpoints/         the latest resumable checkpoint (model + replay buffer + obs statistics)
+    checkpoints/<step>/  the last two resumable checkpoints (model + replay buffer + obs
+                         statistics + manifest; see :mod:`unified_manip.checkpoints`)
+    .lock                held by the process that owns the run (:mod:`unified_manip.runlock`)
     final_model.zip      written when the run finishes
     replay_buffer.pkl    off-policy algorithms, written when the run finishes
     vecnormalize.pkl     observation statistics of runs with ``normalize: true`` (final;
                          ``best/vecnormalize.pkl`` belongs to the best model)
 
-Running the same command on an unfinished run directory resumes from its latest
-checkpoint (step count, model and replay buffer); a finished one is left alone. Every
-file is written to a temporary name and renamed, so a kill never leaves a half-written
-file that is later read as whole.
+Running the same command on an unfinished run directory resumes from its newest
+checkpoint that loads (step count, model and replay buffer); a finished one is left
+alone, and ``--restart`` starts either over from step 0. One process at a time owns a
+run directory: a second is refused. Every file is written to a temporary name and
+renamed, so a kill never leaves a half-written file that is later read as whole.
 """
 
 from __future__ import annotations
@@ -36,10 +39,12 @@ from typing import Any
 import numpy as np
 import yaml
 
+from . import checkpoints
 from .config import REWARD_TYPES
 from .devices import DEVICES, DeviceError, resolve_device
 from .hyperparams import ALGOS, RUN_KEYS, get_algo, resolve
 from .registry import TASKS, get_task
+from .runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
 
 STATUS = "status.json"
 CONFIG = "config.yaml"
@@ -72,6 +77,8 @@ class TrainRequest:
             ``DummyVecEnv``), ``subproc`` (``SubprocVecEnv``), or ``auto``: native where
             the ID has a native vector env and ``n_envs > 1``, else dummy for one env
             and subproc for more.
+        restart: Start the run over from step 0, discarding its checkpoints, logs and
+            models (same run: the settings must match its ``config.yaml``).
     """
 
     env: str
@@ -86,6 +93,7 @@ class TrainRequest:
     env_kwargs: dict[str, Any] = field(default_factory=dict)
     device: str | None = None
     vec: str = "auto"
+    restart: bool = False
 
     def __post_init__(self) -> None:
         if self.env not in TASKS:
@@ -111,6 +119,11 @@ class TrainRequest:
             resolve_vec(self.vec, self.env, self.n_envs)
         except ValueError as err:
             raise TrainError(str(err)) from None
+        if self.run_dir is not None and ".." in Path(self.run_dir).parts:
+            raise TrainError(
+                f"--run-dir {str(self.run_dir)!r} climbs out of its directory with '..'; "
+                "expected a path without '..' (relative, or absolute)"
+            )
 
     @property
     def directory(self) -> Path:
@@ -177,7 +190,8 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
         seed=seed,
         env_kwargs=env_kwargs,
         monitor_dir=str(monitor_dir) if monitor_dir else None,
-        monitor_kwargs={"info_keywords": ("is_success",)},
+        # sim_unstable: whether the episode ended because the physics diverged.
+        monitor_kwargs={"info_keywords": ("is_success", "sim_unstable")},
         vec_env_cls=SubprocVecEnv if kind == "subproc" else DummyVecEnv,
     )
 
@@ -198,7 +212,8 @@ def _model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> di
 
 
 # ---------------------------------------------------------------------- callbacks
-def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env, algo_name: str, progress: bool):
+def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env, algo_name: str, progress: bool,
+               resumed_at: int = 0):
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
 
     algo = get_algo(algo_name)
@@ -240,7 +255,7 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
 
         def _on_rollout_end(self) -> None:
             if self.num_timesteps - self.last >= self.freq:
-                save_checkpoint(self.model, run_dir, algo.off_policy)
+                checkpoints.write(self.model, run_dir, algo.off_policy)
                 self.last = self.num_timesteps
 
     class Progress(BaseCallback):
@@ -281,36 +296,31 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
         deterministic=True,
         verbose=0,
     )
+    if resumed_at:
+        _resume_evaluations(evaluation, run_dir / "eval" / "evaluations.npz", resumed_at)
     return CallbackList([SuccessRate(), Checkpoint(params.get("checkpoint_freq", 10_000)), evaluation, Progress()])
 
 
-def save_checkpoint(model, run_dir: Path, off_policy: bool) -> None:
-    """Write model (+ replay buffer) under temporary names, then publish them with one
-    atomic rename of ``checkpoints/latest.json``."""
-    ckpt = Path(run_dir) / "checkpoints"
-    ckpt.mkdir(parents=True, exist_ok=True)
-    step = int(model.num_timesteps)
-    model_path = ckpt / f"model_{step}.zip"
-    tmp = ckpt / f"model_{step}.tmp.zip"
-    model.save(tmp)
-    os.replace(tmp, model_path)
-    entry = {"num_timesteps": step, "model": model_path.name}
-    if off_policy:
-        buf_path = ckpt / f"replay_buffer_{step}.pkl"
-        tmp = ckpt / f"replay_buffer_{step}.tmp.pkl"
-        model.save_replay_buffer(tmp)
-        os.replace(tmp, buf_path)
-        entry["replay_buffer"] = buf_path.name
-    if model.get_vec_normalize_env() is not None:
-        stats_path = ckpt / f"vecnormalize_{step}.pkl"
-        _save_stats(model, stats_path)
-        entry["vecnormalize"] = stats_path.name
-    previous = latest_checkpoint(run_dir)
-    write_atomic(ckpt / "latest.json", json.dumps(entry))
-    if previous:  # keep only the newest checkpoint
-        for key in ("model", "replay_buffer", "vecnormalize"):
-            if key in previous and previous[key] != entry.get(key):
-                (ckpt / previous[key]).unlink(missing_ok=True)
+def _resume_evaluations(evaluation, path: Path, upto: int) -> None:
+    """Give a resumed run's EvalCallback the evaluations made up to its checkpoint.
+
+    EvalCallback starts with empty lists and rewrites ``evaluations.npz`` from them: a
+    resumed run would lose its earlier curve, and its first evaluation would replace the
+    best model whatever it scored. Evaluations after ``upto`` (made past the checkpoint
+    by the attempt that was cut short) are dropped; they are made again.
+    """
+    try:
+        with np.load(path) as data:
+            keep = data["timesteps"] <= upto
+            evaluation.evaluations_timesteps = data["timesteps"][keep].tolist()
+            evaluation.evaluations_results = data["results"][keep].tolist()
+            evaluation.evaluations_length = data["ep_lengths"][keep].tolist()
+            if "successes" in data:
+                evaluation.evaluations_successes = data["successes"][keep].tolist()
+    except (OSError, ValueError, KeyError):  # none yet, or cut off while written: start afresh
+        return
+    if evaluation.evaluations_results:
+        evaluation.best_mean_reward = float(max(np.mean(r) for r in evaluation.evaluations_results))
 
 
 def _save_stats(model, path: Path) -> None:
@@ -339,11 +349,6 @@ def _normalized(venv, params: dict[str, Any], stats: Path | None, training: bool
     return venv
 
 
-def latest_checkpoint(run_dir: Path) -> dict[str, Any] | None:
-    path = Path(run_dir) / "checkpoints" / "latest.json"
-    return json.loads(path.read_text()) if path.is_file() else None
-
-
 # ---------------------------------------------------------------------- train
 def _config_document(req: TrainRequest, params: dict[str, Any], argv: list[str] | None, device: str) -> dict[str, Any]:
     return {
@@ -365,20 +370,20 @@ _COMPARED = ("env", "env_kwargs", "algo", "steps", "seed", "n_envs", "hyperparam
 
 
 def train(
-    req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print, threads: int | None = None
+    req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print, threads: int | None = None,
+    lock_wait_s: float = 0.0,
 ) -> dict[str, Any]:
     """Train (or resume, or skip if finished) the run ``req`` describes.
 
     ``threads`` is torch's thread count (default: up to 2). A caller that runs several
     trainings side by side passes 1: oversubscribed OpenMP threads spin and slow every
-    run several-fold.
+    run several-fold. The run directory is owned by this process while it trains; if
+    another process owns it, this waits up to ``lock_wait_s`` seconds for it to end.
 
-    Returns the final status dict. Raises :class:`TrainError` for bad requests and
+    Returns the final status dict. Raises :class:`TrainError` for bad requests, for a
+    run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
-    import torch
-
-    algo = get_algo(req.algo)
     params = resolve(req.algo, req.env, req.overrides)
     # The device is where a run executes, not what it is: it stays out of the compared
     # hyperparameters, so a run started on one device resumes on another.
@@ -389,8 +394,33 @@ def train(
     params.pop("device", None)
     run_dir = req.directory
     config = _config_document(req, params, argv, device)
+    if run_dir.exists() and not run_dir.is_dir():
+        raise TrainError(f"{run_dir} is a file; expected a run directory (choose another --run-dir)")
+    if not (run_dir / CONFIG).is_file() and run_dir.is_dir() and any(p.name != LOCK_FILE for p in run_dir.iterdir()):
+        raise TrainError(f"{run_dir} exists and is not a unified-manip run directory; choose another --run-dir")
+    lock = DirectoryLock(run_dir, "run directory")
+    try:
+        lock.acquire(wait_s=lock_wait_s)
+    except DirectoryInUse as err:
+        raise TrainError(str(err)) from None
+    try:  # everything below runs as the run directory's only owner
+        return _train_owned(req, run_dir, config, params, device, progress, log, threads)
+    finally:
+        lock.release()
 
-    status = read_status(run_dir)
+
+#: What ``--restart`` removes (everything but config.yaml and the lock).
+_RUN_OUTPUTS = ("checkpoints", "monitor", "eval", "best", "tb", "final_model.zip", "replay_buffer.pkl",
+                "vecnormalize.pkl", STATUS)
+
+
+def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], params: dict[str, Any], device: str,
+                 progress: bool, log, threads: int | None) -> dict[str, Any]:
+    import shutil
+
+    import torch
+
+    algo = get_algo(req.algo)
     if (run_dir / CONFIG).is_file():
         stored = yaml.safe_load((run_dir / CONFIG).read_text())
         diff = [k for k in _COMPARED if stored.get(k) != config[k]]
@@ -398,47 +428,62 @@ def train(
             raise TrainError(
                 f"{run_dir} holds a different run (it differs in {', '.join(diff)}); choose another --run-dir"
             )
-        if status and status.get("state") == "finished":
-            log(f"{run_dir}: already finished at {status['num_timesteps']} steps; nothing to do")
-            return status
-    elif run_dir.exists() and any(run_dir.iterdir()):
-        raise TrainError(f"{run_dir} exists and is not a unified-manip run directory; choose another --run-dir")
-    run_dir.mkdir(parents=True, exist_ok=True)
+    if req.restart:
+        for name in _RUN_OUTPUTS:
+            path = run_dir / name
+            shutil.rmtree(path) if path.is_dir() else path.unlink(missing_ok=True)
+        log(f"{run_dir}: restarting from step 0")
+    status = read_status(run_dir)
+    if status and status.get("state") == "finished":
+        log(f"{run_dir}: already finished at {status['num_timesteps']} steps; nothing to do")
+        return status
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
     torch.set_num_threads(threads or max(1, min(2, os.cpu_count() or 1)))
-    ckpt = latest_checkpoint(run_dir)
-    if ckpt is None:  # starting (again) from step 0: logs of an aborted attempt would mislead
-        import shutil
-
+    candidates = checkpoints.published(run_dir)
+    if not candidates:  # starting (again) from step 0: logs of an aborted attempt would mislead
         for sub in ("monitor", "eval", "best", "tb"):
             shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
-    env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec)
-    stats = run_dir / "checkpoints" / ckpt["vecnormalize"] if ckpt and "vecnormalize" in ckpt else None
-    if ckpt and params.get("normalize") and stats is None:
-        raise TrainError(f"{run_dir}: the checkpoint has no observation statistics (vecnormalize); cannot resume a normalize run")
-    env = _normalized(env, params, stats, training=True)
+    raw_env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec)
     # EvalCallback copies the training statistics into the eval env before each evaluation.
     eval_env = _normalized(make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None), params, None, training=False)
     cls = algo.cls()
     started = time.time()
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
+
+    def load(ckpt: checkpoints.Checkpoint):
+        stats = ckpt.path(checkpoints.VECNORMALIZE)
+        if params.get("normalize") and stats is None:
+            raise checkpoints.CheckpointError(f"{ckpt.directory}: no observation statistics (vecnormalize) for a normalize run")
+        model = cls.load(ckpt.path(checkpoints.MODEL), env=_normalized(raw_env, params, stats, training=True), device=device)
+        if model.num_timesteps != ckpt.step:
+            raise checkpoints.CheckpointError(f"{ckpt.path(checkpoints.MODEL)}: at step {model.num_timesteps}, the manifest says {ckpt.step}")
+        if algo.off_policy:
+            checkpoints.restore_replay_buffer(model, ckpt)
+        return model
+
     try:
-        if ckpt:
-            model = cls.load(run_dir / "checkpoints" / ckpt["model"], env=env, device=device)
-            if "replay_buffer" in ckpt:
-                model.load_replay_buffer(run_dir / "checkpoints" / ckpt["replay_buffer"])
-            log(f"{run_dir}: resuming from step {model.num_timesteps} of {req.steps} on {device}")
+        if candidates:
+            try:
+                model, ckpt = checkpoints.load_first_good(candidates, load, log)
+            except checkpoints.CheckpointError as err:
+                raise TrainError(
+                    f"{run_dir}: no checkpoint loads ({err}); run the same command with --restart to start over from step 0"
+                ) from None
+            buffered = f" with {_transitions(model)} transitions in the replay buffer" if algo.off_policy else ""
+            log(f"{run_dir}: resuming from step {model.num_timesteps} of {req.steps} on {device}{buffered}")
         else:
             if status is not None:
                 log(f"{run_dir}: unfinished run without a checkpoint; starting again from step 0")
+            env = _normalized(raw_env, params, None, training=True)
             model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
+        checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
-        callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress)
+        callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress, resumed_at=int(model.num_timesteps))
         # Ctrl-C and kill both end in a checkpoint. SIGINT is set explicitly: a process
         # started in the background (or by a parent that ignores it) inherits SIG_IGN.
         previous_handler = signal.signal(signal.SIGTERM, _raise_interrupt)
@@ -447,7 +492,7 @@ def train(
             if remaining > 0:
                 model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
         except KeyboardInterrupt:
-            save_checkpoint(model, run_dir, algo.off_policy)
+            checkpoints.write(model, run_dir, algo.off_policy)
             write_status(
                 run_dir,
                 state="running",
@@ -474,15 +519,18 @@ def train(
             "wall_time_s": elapsed_before + time.time() - started,
         }
         write_status(run_dir, **final)
-        # The final files supersede the checkpoint (a replay buffer can be large).
-        import shutil
-
+        # The final files supersede the checkpoints (a replay buffer can be large).
         shutil.rmtree(run_dir / "checkpoints", ignore_errors=True)
         log(f"{run_dir}: finished {model.num_timesteps} steps")
         return read_status(run_dir)
     finally:
-        env.close()
+        raw_env.close()
         eval_env.close()
+
+
+def _transitions(model) -> int:
+    buffer = model.replay_buffer
+    return int(buffer.size() * buffer.n_envs)
 
 
 def _raise_interrupt(signum, frame):  # pragma: no cover - exercised by the kill test
@@ -554,9 +602,9 @@ def evaluate(
             raise TrainError(f"{target} is not a model; expected a run directory or a model .zip inside one")
     else:
         candidates = [run_dir / "best" / "best_model.zip", run_dir / "final_model.zip"]
-        ckpt = latest_checkpoint(run_dir)
+        ckpt = checkpoints.newest(run_dir)
         if ckpt:
-            candidates.append(run_dir / "checkpoints" / ckpt["model"])
+            candidates.append(ckpt.path(checkpoints.MODEL))
         model_path = next((p for p in candidates if p.is_file()), None)
         if model_path is None:
             raise TrainError(f"{run_dir} has no model yet (no best, final or checkpoint model)")
@@ -596,7 +644,9 @@ def evaluate(
 def _stats_for(model_path: Path, run_dir: Path) -> Path:
     """The VecNormalize statistics saved together with ``model_path``."""
     model_path = Path(model_path)
-    if model_path.parent.name == "checkpoints":
+    if model_path.parent.parent.name == checkpoints.CHECKPOINTS:
+        candidate = model_path.parent / checkpoints.VECNORMALIZE
+    elif model_path.parent.name == checkpoints.CHECKPOINTS:  # the legacy layout
         candidate = model_path.parent / model_path.name.replace("model_", "vecnormalize_").replace(".zip", ".pkl")
     elif model_path.parent.name == "best":
         candidate = model_path.parent / "vecnormalize.pkl"
