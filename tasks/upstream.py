@@ -28,7 +28,7 @@ from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
 from unified_manip.lazy import resolve
 from unified_manip.physics import bad_state_warnings
-from unified_manip.rendering import LazyRenderer
+from unified_manip.rendering import Renderer, SceneOptions
 
 
 def upstream_reset(env: Any, np_random: np.random.Generator) -> None:
@@ -67,10 +67,10 @@ class UpstreamBackend(Backend):
         config: The validated env config (``options`` must be empty).
         upstream: The upstream env class, or its ``"module:Class"`` name.
         family: The family's name, for error messages.
-        camera_config: gymnasium's free-camera config for rendering.
+        scene: How the family's scene is drawn.
     """
 
-    def __init__(self, config: EnvConfig, upstream: type | str, family: str, camera_config: dict[str, Any]) -> None:
+    def __init__(self, config: EnvConfig, upstream: type | str, family: str, scene: SceneOptions) -> None:
         if config.options:
             raise TypeError(f"{family} tasks take no extra options, got {sorted(config.options)}")
         cls = resolve(upstream) if isinstance(upstream, str) else upstream
@@ -80,9 +80,7 @@ class UpstreamBackend(Backend):
         self.dt = up.dt
         self._obs: dict[str, np.ndarray] | None = None
         self._unstable = False
-        self._renderer = LazyRenderer(
-            config.render_mode, config.render_width, config.render_height, camera_config=camera_config
-        )
+        self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, scene)
 
     @property
     def model(self):

@@ -11,7 +11,7 @@ import numpy as np
 from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
 from unified_manip.control import ArmGains, ArmRig, MinkIK, bad_state_warnings, make_mujoco_control
-from unified_manip.rendering import LazyRenderer
+from unified_manip.rendering import Renderer, SceneOptions
 
 from ..contacts import touches_both
 from .goals import sample_goal, sample_object_xy
@@ -30,6 +30,9 @@ from .scene import (
 )
 
 GAINS = ArmGains(kv_velocity=(20.0, 20.0, 12.0, 6.0), max_velocity=2.0, max_delta=0.05, ee_step=0.025)
+
+#: How the arm's scene is drawn: from the model's ``front`` camera, every geom group.
+SCENE = SceneOptions(camera="front")
 
 #: Arm posture at reset: grip site about 15 cm above the table, pointing down.
 HOME_TARGET = np.array([0.45, 0.0, 0.58])
@@ -112,7 +115,7 @@ class Arm4Backend(Backend):
             self._finger_geoms = (m.geom("finger_l_geom").id, m.geom("finger_r_geom").id)
         self._goal = np.zeros(3)
         self._unstable = False
-        self._renderer = LazyRenderer(config.render_mode, config.render_width, config.render_height, camera_name="front")
+        self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:

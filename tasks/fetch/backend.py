@@ -12,6 +12,7 @@ from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
 from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
 from unified_manip.config import EnvConfig
+from unified_manip.rendering import SceneOptions
 from unified_manip.control import ArmGains, ArmRig, make_mujoco_control
 
 from ..contacts import touches_both
@@ -31,6 +32,9 @@ from .scene import (
 
 GAINS = ArmGains(kv_velocity=(50.0, 50.0, 50.0, 50.0, 20.0, 20.0, 10.0), max_velocity=1.0, max_delta=0.05, ee_step=0.05)
 
+
+#: How the scene is drawn: upstream's free camera, every geom group.
+SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)
 
 class FixedRotation:
     """The IK's target rotation: always the grip site's initial one (a picklable callable)."""
@@ -52,7 +56,7 @@ class FetchBackend(UpstreamBackend):
     """
 
     def __init__(self, config: EnvConfig, upstream_cls: type | str, kind: str) -> None:
-        super().__init__(config, upstream_cls, "Fetch", DEFAULT_CAMERA_CONFIG)
+        super().__init__(config, upstream_cls, "Fetch", SCENE)
         self.kind = kind
         self.mode = config.action_mode
         up = self._up

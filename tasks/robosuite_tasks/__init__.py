@@ -20,8 +20,10 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
   the actions played since; unpickling rebuilds the env and replays them, which is
   exact because the rollouts are deterministic (and costs one step per step replayed).
 * **Rendering** (``render_mode="rgb_array"``, and the ``image`` observation with
-  ``camera_obs=True``) uses ``mujoco.Renderer`` on robosuite's model and data
-  (``MUJOCO_GL=egl`` headless), from robosuite's ``frontview`` and ``agentview`` cameras.
+  ``camera_obs=True``) uses the shared :class:`unified_manip.rendering.Renderer` on
+  robosuite's model and data (``MUJOCO_GL=egl`` headless), from robosuite's
+  ``frontview`` and ``agentview`` cameras, with the collision geoms (group 0) hidden
+  as robosuite's own renderer does.
 
 Modules: :mod:`.options` (the ``robot`` and camera options), :mod:`.suite`
 (``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` (how each

@@ -13,6 +13,7 @@ from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
 from unified_manip.control import IKJoints, MinkIK
 from unified_manip.physics import bad_state_warnings
+from unified_manip.rendering import Renderer, SceneOptions
 
 from .goals import TASK_DEFS
 from .options import validate_options
@@ -26,6 +27,12 @@ from .suite import (
     UNLIMITED_RANGE,
     make_upstream,
 )
+
+#: How robosuite scenes are drawn: robosuite's ``frontview`` camera for frames and its
+#: ``agentview`` camera for the ``image`` observation, without the collision geoms
+#: (group 0; robosuite's own renderer hides them too, and shows the visual meshes).
+SCENE = SceneOptions(camera="frontview", hidden_geom_groups=(0,))
+CAMERA_SCENE = SceneOptions(camera="agentview", hidden_geom_groups=(0,))
 
 #: The grasp check runs only while the grip site is this close to the object, m.
 GRASP_CHECK_RADIUS = 0.08
@@ -72,10 +79,8 @@ class RobosuiteBackend(Backend):
         self._unstable = False
         self._episode: tuple[int, np.ndarray] | None = None
         self._log: list[np.ndarray | None] = []
-        self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
-        for w, h in ((config.render_width, config.render_height), (self.options["camera_width"], self.options["camera_height"])):
-            self.model.vis.global_.offwidth = max(self.model.vis.global_.offwidth, w)
-            self.model.vis.global_.offheight = max(self.model.vis.global_.offheight, h)
+        self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
+        self._camera = Renderer("rgb_array", self.options["camera_width"], self.options["camera_height"], CAMERA_SCENE)
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:
@@ -170,23 +175,15 @@ class RobosuiteBackend(Backend):
     def extra_observations(self) -> dict[str, np.ndarray]:
         if not self.options["camera_obs"]:
             return {}
-        return {"image": self._render(self.options["camera_width"], self.options["camera_height"], "agentview")}
+        return {"image": self._camera.render(self.model, self.data)}
 
     # -------------------------------------------------------------- rendering
-    def _render(self, width: int, height: int, camera: str) -> np.ndarray:
-        r = self._renderers.get((width, height))
-        if r is None:
-            r = self._renderers[(width, height)] = mujoco.Renderer(self.model, height, width)
-        r.update_scene(self.data, camera=camera)
-        return r.render()
-
     def render(self) -> np.ndarray | None:
-        return self._render(self.config.render_width, self.config.render_height, "frontview")
+        return self._renderer.render(self.model, self.data)
 
     def close(self) -> None:
-        for r in self._renderers.values():
-            r.close()
-        self._renderers = {}
+        self._renderer.close()
+        self._camera.close()
 
     # -------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:

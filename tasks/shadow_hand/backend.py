@@ -9,6 +9,7 @@ import numpy as np
 from gymnasium_robotics.envs.shadow_dexterous_hand.hand_env import DEFAULT_CAMERA_CONFIG
 
 from unified_manip.config import EnvConfig
+from unified_manip.rendering import SceneOptions
 
 from ..upstream import UpstreamBackend
 
@@ -17,6 +18,9 @@ BLOCK_ON_HAND_Z = 0.04
 #: The finger actuators (J1) that also drive the distal joint J0.
 COUPLED_FINGERS = ("FF", "MF", "RF", "LF")
 
+
+#: How the scene is drawn: upstream's free camera, every geom group.
+SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)
 
 class HandBackend(UpstreamBackend):
     """One Shadow Hand task under ``native`` or ``joint_delta``.
@@ -28,7 +32,7 @@ class HandBackend(UpstreamBackend):
     """
 
     def __init__(self, config: EnvConfig, upstream_cls: type | str, kind: str) -> None:
-        super().__init__(config, upstream_cls, "Shadow Hand", DEFAULT_CAMERA_CONFIG)
+        super().__init__(config, upstream_cls, "Shadow Hand", SCENE)
         self.kind = kind
         self.action_dim = 20
         self._relative = config.action_mode == "joint_delta"
