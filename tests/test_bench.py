@@ -132,7 +132,7 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
         ({"seeds": None}, "missing grid key(s) seeds; required: tasks, action_modes, reward_types, algos, seeds, steps"),
         ({"budget": 10}, "unknown grid key(s) 'budget'; expected tasks, action_modes, reward_types, algos, seeds, steps, name, description, eval_freq, n_eval_episodes, overrides, n_envs"),
         ({"tasks": ["UnifiedManip/Nope-v0"]}, "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0"),
-        ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her"),
+        ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her, crossq_her"),
         ({"reward_types": ["shaped"]}, "unknown reward type 'shaped'; expected one of sparse, dense, dense_penalized"),
         ({"steps": 0}, "steps must be a positive integer, got 0"),
         ({"seeds": []}, "grid key 'seeds' must be a non-empty list of int, got []"),

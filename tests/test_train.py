@@ -30,6 +30,7 @@ SMOKE = {
     "td3": ["learning_starts=100", "batch_size=64"],
     "sac_her": ["learning_starts=100", "batch_size=64"],
     "tqc_her": ["learning_starts=100", "batch_size=64"],
+    "crossq_her": ["learning_starts=100", "batch_size=64", "policy_kwargs.net_arch.qf=[64, 64]"],
 }
 RUN_SETTINGS = ["eval_freq=150", "n_eval_episodes=2", "checkpoint_freq=100"]
 
@@ -202,7 +203,7 @@ def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
 @pytest.mark.parametrize(
     "args,message",
     [
-        (["--algo", "dqn"], "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her')"),
+        (["--algo", "dqn"], "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her')"),
         (["--env", "UnifiedManip/Nope-v0"], "argument --env: invalid choice: 'UnifiedManip/Nope-v0'"),
         (["--action-mode", "cartesian"], "argument --action-mode: invalid choice: 'cartesian'"),
         (["--reward-type", "shaped"], "argument --reward-type: invalid choice: 'shaped'"),

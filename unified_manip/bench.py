@@ -15,6 +15,8 @@ algorithms x seeds, the budget and the evaluation schedule::
     overrides: {sac_her: [learning_starts=500]}   # optional, per algorithm
     only:                          # optional: keep just the combinations matching an entry
       - {algo: ppo, reward_type: sparse}
+    targets:                       # optional: final success the report checks
+      - {task: UnifiedManip/Arm4Reach-v0, action_mode: ee_delta, success: 0.95}
 
 Each run is the ``train`` command's run, in ``<out>/runs/<run name>``. Re-running a bench
 skips finished runs and resumes unfinished ones from their checkpoints. One bench at a
@@ -51,7 +53,7 @@ from .runlock import DirectoryLock
 RUN_LOCK_WAIT_S = 60.0
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
-OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only")
+OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets")
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 RESULT_COLUMNS = (
     "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",
@@ -147,6 +149,12 @@ def load_grid(path: Path) -> Grid:
     n_envs = doc.get("n_envs", 1)
     if not isinstance(n_envs, int) or n_envs <= 0:
         raise GridError(f"{path}: n_envs must be a positive integer, got {n_envs!r}")
+    from .benchmark import TargetError, parse_targets
+
+    try:  # the report marks each target met or missed
+        parse_targets(doc.get("targets"), str(path))
+    except TargetError as err:
+        raise GridError(str(err)) from None
     only = doc.get("only")
     if only is not None:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):

@@ -57,11 +57,19 @@ class Algo:
     cls_name: str
     her: bool = False
     off_policy: bool = True
+    buffer: str = "stable_baselines3:HerReplayBuffer"  # module:class of the HER buffer
 
     def cls(self):
         import importlib
 
         return getattr(importlib.import_module(self.module), self.cls_name)
+
+    def buffer_cls(self):
+        """The replay buffer class of a HER algorithm."""
+        import importlib
+
+        module, name = self.buffer.split(":")
+        return getattr(importlib.import_module(module), name)
 
 
 ALGOS: dict[str, Algo] = {
@@ -72,6 +80,7 @@ ALGOS: dict[str, Algo] = {
         Algo("td3", "stable_baselines3", "TD3"),
         Algo("sac_her", "stable_baselines3", "SAC", her=True),
         Algo("tqc_her", "sb3_contrib", "TQC", her=True),
+        Algo("crossq_her", "unified_manip.crossq", "CrossQ", her=True, buffer="unified_manip.crossq:CatDictHerReplayBuffer"),
     )
 }
 

@@ -157,6 +157,16 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
             )
     lines.append("")
 
+    grid_file = bench_dir / "grid.yaml"
+    if grid_file.is_file():
+        import yaml
+
+        from .benchmark import benchmark_table, parse_targets
+
+        targets = parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
+        lines += ["## Benchmark table", ""]
+        lines += benchmark_table(rows, targets, bootstrap_ci)
+
     lines += ["## Success against environment steps", ""]
     for task, groups in by_task.items():
         fig = plot_task(task, groups, out)

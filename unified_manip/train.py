@@ -200,9 +200,7 @@ def _model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> di
     algo = get_algo(algo_name)
     kwargs = {k: v for k, v in params.items() if k not in RUN_KEYS}
     if algo.her:
-        from stable_baselines3 import HerReplayBuffer
-
-        kwargs["replay_buffer_class"] = HerReplayBuffer
+        kwargs["replay_buffer_class"] = algo.buffer_cls()
     if "action_noise_std" in params:
         from stable_baselines3.common.noise import NormalActionNoise
 

@@ -1,0 +1,87 @@
+"""Device choice, the recipe files and the algorithm keys issue 10 added (short runs only;
+learning targets live in the benchmark report, never here)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import torch
+import yaml
+
+import unified_manip
+from unified_manip.bench import load_grid
+from unified_manip.devices import DeviceError, resolve_device
+from unified_manip.hyperparams import ALGOS, load_file, resolve
+
+ROOT = Path(__file__).resolve().parents[1]
+GPU = torch.cuda.is_available()
+
+
+def cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True,
+                          timeout=900, cwd=ROOT)
+
+
+# ---------------------------------------------------------------------- device
+def test_auto_resolves_to_cuda_only_where_torch_sees_a_gpu():
+    assert resolve_device("auto") == ("cuda" if GPU else "cpu")
+    assert resolve_device("cpu") == "cpu"
+
+
+def test_unknown_device_names_the_choices():
+    with pytest.raises(DeviceError, match=r"unknown device 'tpu'; expected one of auto, cpu, cuda"):
+        resolve_device("tpu")
+
+
+@pytest.mark.parametrize("command", [
+    ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac", "--steps", "10"],
+    ["eval", "runs/none"],
+    ["bench", "baselines/grids/action_spaces.yaml"],
+])
+def test_bad_device_is_one_line_exit_2(command, tmp_path):
+    proc = cli(*command, "--device", "gpu")
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+    assert "argument --device: invalid choice: 'gpu' (choose from 'auto', 'cpu', 'cuda')" in proc.stderr
+    if not GPU:  # this machine: cuda is refused before anything is written
+        out = ["--run-dir", str(tmp_path / "r")] if command[0] == "train" else ["--out", str(tmp_path / "b")] if command[0] == "bench" else []
+        proc = cli(*command, *out, "--device", "cuda")
+        assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+        assert "device 'cuda' requested but torch sees no GPU here; use --device cpu or auto" in proc.stderr
+        assert "Traceback" not in proc.stderr
+        assert not (tmp_path / "r").exists() and not (tmp_path / "b").exists()
+
+
+def test_device_is_recorded_and_not_compared_on_resume(tmp_path):
+    """A run records where it started; the same run asked for on another device is the
+    same run (here cpu, then auto, which is cpu on a machine without a GPU)."""
+    run_dir = tmp_path / "run"
+    args = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "ee_delta", "--algo", "sac_her",
+            "--steps", "200", "--run-dir", str(run_dir), "--no-progress", "--set", "learning_starts=100",
+            "--set", "batch_size=32", "--set", "eval_freq=1000"]
+    first = cli(*args, "--device", "cpu")
+    assert first.returncode == 0, first.stderr
+    config = yaml.safe_load((run_dir / "config.yaml").read_text())
+    assert config["device"] == "cpu" and "device" not in config["hyperparameters"]
+    again = cli(*args, "--device", "auto")
+    assert again.returncode == 0, again.stderr
+    assert "already finished at 200 steps" in again.stdout
+
+
+# ---------------------------------------------------------------------- recipe files
+@pytest.mark.parametrize("algo", list(ALGOS))
+def test_every_hyperparameter_entry_loads_and_type_checks(algo):
+    entries = [k for k in load_file(ALGOS[algo]) if k != "default"]
+    for task_id in entries:
+        assert task_id in unified_manip.TASKS, f"{algo}.yaml has an entry for unknown task {task_id}"
+    for task_id in ["default", *entries]:
+        params = resolve(algo, task_id)  # raises on an unknown key or a wrong type
+        assert params["policy"] == "MultiInputPolicy"
+
+
+@pytest.mark.parametrize("grid", sorted((ROOT / "baselines" / "grids").rglob("*.yaml")), ids=lambda p: p.stem)
+def test_every_committed_grid_loads(grid):
+    loaded = load_grid(grid)
+    assert loaded.runs and all(r.steps > 0 for r in loaded.runs)
