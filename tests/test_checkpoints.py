@@ -158,3 +158,16 @@ def test_a_waiting_owner_gets_the_directory_when_the_first_lets_go(tmp_path):
     second = DirectoryLock(tmp_path).acquire(wait_s=10, poll_s=0.05)
     assert second.held
     second.release()
+
+
+# ---------------------------------------------------------------------- the size benchmark
+def test_checkpoint_size_benchmark_compares_whole_and_trimmed_buffers():
+    from unified_manip.checkpoint_size import measure, table
+
+    result = measure("UnifiedManip/Arm4Reach-v0", buffer_size=20_000, steps=300, repeats=1)
+    before, after = result["before"], result["after"]
+    # 300 of 20,000 rows: the trimmed buffer is a small fraction of the whole pickle.
+    assert after["buffer_bytes"] * 20 < before["buffer_bytes"]
+    assert after["checkpoint_bytes"] < before["checkpoint_bytes"]
+    assert all(v > 0 for v in (before["write_s"], after["write_s"], before["buffer_load_s"], after["buffer_load_s"]))
+    assert "| of which replay buffer (MB) |" in table(result)

@@ -46,6 +46,7 @@ from .config import REWARD_TYPES
 from .hyperparams import ALGOS, get_algo, resolve
 from .registry import TASKS
 from .runlock import DirectoryLock
+from .yamlfile import YamlFileError, load_mapping
 
 #: How long a run waits for its directory when another process still owns it (an
 #: earlier attempt on a Ray node that has not noticed it was given up on, or a stray
@@ -63,6 +64,10 @@ RESULT_COLUMNS = (
 
 class GridError(ValueError):
     """A grid file is malformed (reported before any run starts)."""
+
+
+class ResultsError(ValueError):
+    """A ``results.csv`` that is not a bench's (one-line error)."""
 
 
 @dataclass(frozen=True)
@@ -100,9 +105,10 @@ def load_grid(path: Path) -> Grid:
     path = Path(path)
     if not path.is_file():
         raise GridError(f"grid file {path} not found")
-    doc = yaml.safe_load(path.read_text())
-    if not isinstance(doc, dict):
-        raise GridError(f"{path}: expected a mapping with keys {', '.join(REQUIRED)}")
+    try:
+        doc = load_mapping(path, f"a mapping with keys {', '.join(REQUIRED)}")
+    except YamlFileError as err:
+        raise GridError(str(err)) from None
     missing = [k for k in REQUIRED if k not in doc]
     if missing:
         raise GridError(f"{path}: missing grid key(s) {', '.join(missing)}; required: {', '.join(REQUIRED)}")
@@ -110,6 +116,12 @@ def load_grid(path: Path) -> Grid:
     if unknown:
         raise GridError(
             f"{path}: unknown grid key(s) {', '.join(map(repr, unknown))}; expected {', '.join(REQUIRED + OPTIONAL)}"
+        )
+    name = doc.get("name", path.stem)
+    if not _plain_name(name):
+        raise GridError(
+            f"{path}: name {name!r} must be a plain directory name (no '/', '\\', '..' or absolute path): "
+            "the bench writes to baselines/results/<name>"
         )
     tasks = _list(path, doc, "tasks", str)
     for t in tasks:
@@ -177,7 +189,12 @@ def load_grid(path: Path) -> Grid:
             runs.append(RunSpec(t, m, r, a, s, steps, sets, n_envs))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
-    return Grid(str(doc.get("name", path.stem)), tuple(runs), doc)
+    return Grid(name, tuple(runs), doc)
+
+
+def _plain_name(name: object) -> bool:
+    """A name that stays one directory below where it is joined (no separators, no '..')."""
+    return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
 
 
 # ---------------------------------------------------------------------- one run
@@ -240,15 +257,28 @@ def write_results(out_dir: Path, rows: list[dict[str, Any]]) -> Path:
 
 
 def read_results(path: Path) -> list[dict[str, Any]]:
-    with Path(path).open() as f:
-        rows = list(csv.DictReader(f))
-    for r in rows:
-        r["seed"] = int(r["seed"])
-        r["steps"] = int(r["steps"])
-        for k in ("final_success_rate", "wall_time_s", "steps_per_s"):
-            r[k] = float(r[k])
-        r["curve"] = json.loads(r["curve"])
-        r["versions"] = json.loads(r["versions"])
+    """The rows of a bench's ``results.csv``, typed.
+
+    Raises:
+        ResultsError: the file lacks the bench's columns or holds a value of the wrong
+            type (the message names the file and line).
+    """
+    with Path(path).open(newline="") as f:
+        reader = csv.DictReader(f)
+        missing = [c for c in RESULT_COLUMNS if c not in (reader.fieldnames or ())]
+        if missing:
+            raise ResultsError(f"{path}: not a bench's results.csv; missing column(s) {', '.join(missing)}")
+        rows = list(reader)
+    for line, r in enumerate(rows, start=2):
+        try:
+            r["seed"] = int(r["seed"])
+            r["steps"] = int(r["steps"])
+            for k in ("final_success_rate", "wall_time_s", "steps_per_s"):
+                r[k] = float(r[k])
+            r["curve"] = json.loads(r["curve"])
+            r["versions"] = json.loads(r["versions"])
+        except (TypeError, ValueError) as err:
+            raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
     return rows
 
 

@@ -200,14 +200,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    import yaml
-
     from .report import build_report
+    from .yamlfile import load_mapping
 
     results = Path(args.results)
     if not results.is_file():
         raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
-    claims = yaml.safe_load(Path(args.claims).read_text()) if args.claims else None
+    claims = load_mapping(Path(args.claims), "a mapping of claim labels") if args.claims else None
     out = Path(args.out) if args.out else results.parent / "report"
     path = build_report(results, out, command=shlex.join(["unified-manip", *sys.argv[1:]]),
                         dense_check=not args.no_dense_check, claims=claims)
@@ -221,7 +220,10 @@ def _env_kwarg(value: str) -> tuple[str, object]:
     if "=" not in value:
         raise argparse.ArgumentTypeError(f"expected key=value, got {value!r}")
     key, raw = value.split("=", 1)
-    return key, yaml.safe_load(raw)
+    try:
+        return key, yaml.safe_load(raw)
+    except yaml.YAMLError:
+        raise argparse.ArgumentTypeError(f"{value!r}: {raw!r} is not a YAML literal") from None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -317,16 +319,17 @@ def _positive_int(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .bench import GridError
+    from .bench import GridError, ResultsError
     from .hyperparams import HyperparameterError
     from .runlock import DirectoryInUse
     from .train import TrainError
+    from .yamlfile import YamlFileError
 
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (TrainError, HyperparameterError, GridError, DirectoryInUse, FileNotFoundError) as err:
+    except (TrainError, HyperparameterError, GridError, ResultsError, YamlFileError, DirectoryInUse, FileNotFoundError) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
 

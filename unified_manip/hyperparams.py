@@ -146,10 +146,20 @@ def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, 
     path = Path(directory or DEFAULT_DIR) / f"{algo.name}.yaml"
     if not path.is_file():
         raise HyperparameterError(f"hyperparameter file {path} not found")
-    with path.open() as f:
-        data = yaml.safe_load(f)
-    if not isinstance(data, dict) or "default" not in data:
-        raise HyperparameterError(f"{path}: expected a mapping of task IDs with a 'default' entry")
+    from .yamlfile import YamlFileError, key_line, load_mapping
+
+    expected = "a mapping of task IDs with a 'default' entry"
+    try:
+        data = load_mapping(path, expected)
+    except YamlFileError as err:
+        raise HyperparameterError(str(err)) from None
+    if "default" not in data:
+        raise HyperparameterError(f"{path}: expected {expected}; there is no 'default' entry")
+    for key, entry in data.items():
+        if not isinstance(entry, dict) and (entry is not None or key == "default"):
+            raise HyperparameterError(
+                f"{path}:{key_line(path, key)}: entry {key!r} must be a mapping of hyperparameters, got {type(entry).__name__}"
+            )
     return data
 
 

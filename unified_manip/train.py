@@ -396,6 +396,7 @@ def train(
         raise TrainError(f"{run_dir} is a file; expected a run directory (choose another --run-dir)")
     if not (run_dir / CONFIG).is_file() and run_dir.is_dir() and any(p.name != LOCK_FILE for p in run_dir.iterdir()):
         raise TrainError(f"{run_dir} exists and is not a unified-manip run directory; choose another --run-dir")
+    created = not run_dir.exists()
     lock = DirectoryLock(run_dir, "run directory")
     try:
         lock.acquire(wait_s=lock_wait_s)
@@ -403,6 +404,11 @@ def train(
         raise TrainError(str(err)) from None
     try:  # everything below runs as the run directory's only owner
         return _train_owned(req, run_dir, config, params, device, progress, log, threads)
+    except TrainError:
+        if created and [p.name for p in run_dir.iterdir()] == [LOCK_FILE]:  # refused before writing anything
+            lock.path.unlink()
+            run_dir.rmdir()
+        raise
     finally:
         lock.release()
 
@@ -420,7 +426,7 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
 
     algo = get_algo(req.algo)
     if (run_dir / CONFIG).is_file():
-        stored = yaml.safe_load((run_dir / CONFIG).read_text())
+        stored = _read_config(run_dir)
         diff = [k for k in _COMPARED if stored.get(k) != config[k]]
         if diff:
             raise TrainError(
@@ -435,6 +441,9 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
     if status and status.get("state") == "finished":
         log(f"{run_dir}: already finished at {status['num_timesteps']} steps; nothing to do")
         return status
+    # EvalCallback copies the training statistics into the eval env before each evaluation.
+    # It is made first: env keyword arguments the task refuses end here, before any file.
+    eval_env = _normalized(_checked_env(req), params, None, training=False)
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
@@ -445,8 +454,6 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
             shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
     raw_env = make_vec_env(req.env, req.env_config(), req.n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec)
-    # EvalCallback copies the training statistics into the eval env before each evaluation.
-    eval_env = _normalized(make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None), params, None, training=False)
     cls = algo.cls()
     started = time.time()
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
@@ -526,6 +533,24 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
         eval_env.close()
 
 
+def _checked_env(req: TrainRequest):
+    """The evaluation env; a task that refuses the env keyword arguments is a TrainError."""
+    try:
+        return make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+    except (TypeError, ValueError) as err:  # gymnasium appends where it was raised; keep the task's words
+        reason = str(err).split(" was raised from the environment creator")[0]
+        raise TrainError(f"cannot make {req.env} with {req.env_config()}: {reason}") from None
+
+
+def _read_config(run_dir: Path) -> dict[str, Any]:
+    from .yamlfile import YamlFileError, load_mapping
+
+    try:
+        return load_mapping(run_dir / CONFIG, "a run's settings (written by unified-manip train)")
+    except YamlFileError as err:
+        raise TrainError(str(err)) from None
+
+
 def _transitions(model) -> int:
     buffer = model.replay_buffer
     return int(buffer.size() * buffer.n_envs)
@@ -583,7 +608,7 @@ def evaluate(
         run_dir = run_dir.parent
     if not (run_dir / CONFIG).is_file():
         raise TrainError(f"{target} is not inside a unified-manip run directory (no {CONFIG} found)")
-    config = yaml.safe_load((run_dir / CONFIG).read_text())
+    config = _read_config(run_dir)
     env_kwargs = dict(config["env_kwargs"])
     if action_mode is not None and action_mode != env_kwargs["action_mode"]:
         raise TrainError(
