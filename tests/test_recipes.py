@@ -85,3 +85,55 @@ def test_every_hyperparameter_entry_loads_and_type_checks(algo):
 def test_every_committed_grid_loads(grid):
     loaded = load_grid(grid)
     assert loaded.runs and all(r.steps > 0 for r in loaded.runs)
+
+
+# ---------------------------------------------------------------------- per-task budgets
+def _grid(tmp_path: Path, steps) -> Path:
+    path = tmp_path / "g.yaml"
+    path.write_text(yaml.safe_dump({
+        "tasks": ["UnifiedManip/Arm4Reach-v0", "UnifiedManip/FetchReach-v0"], "action_modes": ["ee_delta"],
+        "reward_types": ["sparse"], "algos": ["sac_her"], "seeds": [0], "steps": steps,
+    }))
+    return path
+
+
+def test_a_grid_may_give_each_task_its_own_budget(tmp_path):
+    grid = load_grid(_grid(tmp_path, {"default": 1000, "UnifiedManip/FetchReach-v0": 3000}))
+    assert {r.task: r.steps for r in grid.runs} == {"UnifiedManip/Arm4Reach-v0": 1000, "UnifiedManip/FetchReach-v0": 3000}
+
+
+@pytest.mark.parametrize("steps,message", [
+    ({"UnifiedManip/Lift-v0": 10, "default": 5}, "steps names 'UnifiedManip/Lift-v0', which is not one of the grid's tasks"),
+    ({"UnifiedManip/Arm4Reach-v0": 10}, "steps gives no value for 'UnifiedManip/FetchReach-v0'; add it or a 'default'"),
+    ({"default": -1}, "steps for 'default' must be a positive integer, got -1"),
+    ("many", "steps must be a positive integer, got 'many'"),
+])
+def test_bad_budgets_are_refused(tmp_path, steps, message):
+    from unified_manip.bench import GridError
+
+    with pytest.raises(GridError, match=message):
+        load_grid(_grid(tmp_path, steps))
+
+
+def test_n_envs_may_differ_by_algorithm(tmp_path):
+    path = tmp_path / "g.yaml"
+    path.write_text(yaml.safe_dump({
+        "tasks": ["UnifiedManip/Arm4Reach-v0"], "action_modes": ["ee_delta"], "reward_types": ["dense"],
+        "algos": ["ppo", "sac"], "seeds": [0], "steps": 100, "n_envs": {"default": 1, "ppo": 8},
+    }))
+    assert {r.algo: r.n_envs for r in load_grid(path).runs} == {"ppo": 8, "sac": 1}
+
+
+def test_only_selects_runs_and_refuses_what_matches_nothing(tmp_path):
+    from unified_manip.bench import GridError, selected
+
+    grid = load_grid(ROOT / "baselines" / "grids" / "reward_design_1m.yaml")
+    ppo = selected(grid, ("algo=ppo",))
+    assert ppo and all("__ppo__" in name for name in ppo)
+    assert selected(grid, ("algo=ppo", "seed=0", "seed=1")) == {n for n in ppo if n.endswith(("s0", "s1"))}
+    with pytest.raises(GridError, match="malformed --only 'algorithm=ppo'; expected KEY=VALUE with KEY one of task"):
+        selected(grid, ("algorithm=ppo",))
+    with pytest.raises(GridError, match="--only algo=td3 selects none of the grid's"):
+        selected(grid, ("algo=td3",))
+    proc = cli("bench", str(ROOT / "baselines" / "grids" / "reward_design_1m.yaml"), "--out", str(tmp_path / "b"), "--only", "seed")
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "malformed --only 'seed'" in proc.stderr

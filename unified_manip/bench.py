@@ -9,7 +9,8 @@ algorithms x seeds, the budget and the evaluation schedule::
     reward_types: [sparse]
     algos: [sac_her]
     seeds: [0, 1, 2]
-    steps: 10000                   # env steps per run
+    steps: 10000                   # env steps per run, or {default: N, <task ID>: N, ...}
+    n_envs: {default: 1, ppo: 8}   # optional: envs per run (or one number), by algorithm
     eval_freq: 1000                # env steps between evaluations
     n_eval_episodes: 20
     overrides: {sac_her: [learning_starts=500]}   # optional, per algorithm
@@ -136,9 +137,7 @@ def load_grid(path: Path) -> Grid:
         if a not in ALGOS:
             raise GridError(f"{path}: unknown algorithm {a!r}; expected one of {', '.join(ALGOS)}")
     seeds = _list(path, doc, "seeds", int)
-    steps = doc["steps"]
-    if not isinstance(steps, int) or isinstance(steps, bool) or steps <= 0:
-        raise GridError(f"{path}: steps must be a positive integer, got {steps!r}")
+    steps = _per_key(path, "steps", doc["steps"], tasks, "tasks")
     modes_value = doc["action_modes"]
     if modes_value != "all":
         modes = _list(path, doc, "action_modes", str)
@@ -158,9 +157,7 @@ def load_grid(path: Path) -> Grid:
             if not isinstance(doc[key], int) or doc[key] <= 0:
                 raise GridError(f"{path}: {key} must be a positive integer, got {doc[key]!r}")
             run_settings.append(f"{key}={doc[key]}")
-    n_envs = doc.get("n_envs", 1)
-    if not isinstance(n_envs, int) or n_envs <= 0:
-        raise GridError(f"{path}: n_envs must be a positive integer, got {n_envs!r}")
+    n_envs = _per_key(path, "n_envs", doc.get("n_envs", 1), algos, "algorithms")
     from .benchmark import TargetError, parse_targets
 
     try:  # the report marks each target met or missed
@@ -186,7 +183,7 @@ def load_grid(path: Path) -> Grid:
                 resolve(a, t, sets)
             except ValueError as err:
                 raise GridError(f"{path}: {err}") from None
-            runs.append(RunSpec(t, m, r, a, s, steps, sets, n_envs))
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a]))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
     return Grid(name, tuple(runs), doc)
@@ -195,6 +192,53 @@ def load_grid(path: Path) -> Grid:
 def _plain_name(name: object) -> bool:
     """A name that stays one directory below where it is joined (no separators, no '..')."""
     return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
+
+
+SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed")
+
+
+def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:
+    """Names of the runs matching every ``key=value`` of ``select`` (None: no selection).
+
+    ``unified-manip bench --only algo=ppo`` trains just those runs now; results.csv still
+    holds every finished run of the grid, so a grid can be run in the order a study needs.
+    """
+    if not select:
+        return None
+    wanted: dict[str, set[str]] = {}
+    for item in select:
+        key, sep, value = item.partition("=")
+        if not sep or key not in SELECT_KEYS or not value:
+            raise GridError(f"malformed --only {item!r}; expected KEY=VALUE with KEY one of {', '.join(SELECT_KEYS)}")
+        wanted.setdefault(key, set()).add(value)
+    names = {r.name for r in grid.runs if all(str(getattr(r, k)) in v for k, v in wanted.items())}
+    if not names:
+        raise GridError(f"--only {' '.join(select)} selects none of the grid's {len(grid.runs)} runs")
+    return names
+
+
+def _per_key(path: Path, name: str, value: Any, keys: list[str], what: str) -> dict[str, int]:
+    """A positive integer for every key: one for all, or a mapping of keys (and ``default``).
+
+    ``steps`` is keyed by task ID, ``n_envs`` by algorithm (PPO with parallel envs beside
+    single-env SAC in one grid)."""
+    def positive(v: Any) -> bool:
+        return isinstance(v, int) and not isinstance(v, bool) and v > 0
+
+    if positive(value):
+        return {k: value for k in keys}
+    if not isinstance(value, dict):
+        raise GridError(f"{path}: {name} must be a positive integer, got {value!r} (or a mapping of the grid's {what} to one)")
+    unknown = [k for k in value if k != "default" and k not in keys]
+    if unknown:
+        raise GridError(f"{path}: {name} names {unknown[0]!r}, which is not one of the grid's {what} (or 'default')")
+    bad = [k for k, v in value.items() if not positive(v)]
+    if bad:
+        raise GridError(f"{path}: {name} for {bad[0]!r} must be a positive integer, got {value[bad[0]]!r}")
+    missing = [k for k in keys if k not in value and "default" not in value]
+    if missing:
+        raise GridError(f"{path}: {name} gives no value for {missing[0]!r}; add it or a 'default'")
+    return {k: value.get(k, value.get("default")) for k in keys}
 
 
 # ---------------------------------------------------------------------- one run
@@ -309,6 +353,7 @@ def run_grid(
     command: str | None = None,
     on_event: Callable[[str, RunSpec], None] | None = None,
     device: str | None = None,
+    select: tuple[str, ...] = (),
 ) -> dict[str, Any]:
     """Run every run of ``grid`` that is not finished yet; return a summary.
 
@@ -326,16 +371,18 @@ def run_grid(
             raise GridError(str(err)) from None
     out_dir = Path(out_dir).resolve()
     with DirectoryLock(out_dir, "bench directory"):
-        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, command, on_event, device)
+        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, command, on_event, device,
+                          selected(grid, select))
 
 
 def _run_owned(grid: Grid, out_dir: Path, executor: str, workers: int | None, address: str | None, retries: int,
-               progress: bool, command: str | None, on_event, device: str | None) -> dict[str, Any]:
+               progress: bool, command: str | None, on_event, device: str | None,
+               chosen: set[str] | None = None) -> dict[str, Any]:
     (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
     if command:
         (out_dir / "command.txt").write_text(command + "\n")
     rows = {r["run"]: r for r in (collect_row(out_dir / "runs" / s.name) for s in grid.runs) if r}
-    todo = [s for s in grid.runs if s.name not in rows]
+    todo = [s for s in grid.runs if s.name not in rows and (chosen is None or s.name in chosen)]
     failures: dict[str, str] = {}
     attempts = {s.name: 0 for s in todo}
     write_results(out_dir, list(rows.values()))

@@ -185,6 +185,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
             progress=not args.no_progress,
             command=shlex.join(["unified-manip", *sys.argv[1:]]),
             device=args.device,
+            select=tuple(args.only or ()),
         )
     except KeyboardInterrupt:
         # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
@@ -288,6 +289,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_positive_int, help="runs at a time (default: CPU cores)")
     p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
     p.add_argument("--device", choices=DEVICES, help="device of every run: auto, cpu or cuda (default: each hyperparameter file's device key, else auto)")
+    p.add_argument("--only", action="append", metavar="KEY=VALUE",
+                   help="train only the runs matching this (task, action_mode, reward_type, algo or seed; repeatable: "
+                        "values of one key are alternatives, keys must all match); results keep every finished run")
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=cmd_bench)
 
