@@ -25,7 +25,6 @@ renamed, so a kill never leaves a half-written file that is later read as whole.
 
 from __future__ import annotations
 
-import json
 import os
 import platform
 import shlex
@@ -39,15 +38,12 @@ from typing import Any
 import numpy as np
 import yaml
 
-from . import checkpoints
+from . import checkpoints, rundir
 from .config import REWARD_TYPES
 from .devices import DEVICES, DeviceError, resolve_device
 from .hyperparams import ALGOS, RUN_KEYS, get_algo, resolve
 from .registry import TASKS, get_task
-from .runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
-
-STATUS = "status.json"
-CONFIG = "config.yaml"
+from .rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status  # noqa: F401
 
 
 class TrainError(ValueError):
@@ -137,23 +133,6 @@ class TrainRequest:
 
 
 # ---------------------------------------------------------------------- small I/O helpers
-def write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-
-
-def read_status(run_dir: Path) -> dict[str, Any] | None:
-    path = Path(run_dir) / STATUS
-    if not path.is_file():
-        return None
-    return json.loads(path.read_text())
-
-
-def write_status(run_dir: Path, **status: Any) -> None:
-    write_atomic(Path(run_dir) / STATUS, json.dumps({**status, "updated": time.time()}, indent=2))
-
-
 def package_versions() -> dict[str, str]:
     from importlib.metadata import version
 
@@ -392,30 +371,11 @@ def train(
     params.pop("device", None)
     run_dir = req.directory
     config = _config_document(req, params, argv, device)
-    if run_dir.exists() and not run_dir.is_dir():
-        raise TrainError(f"{run_dir} is a file; expected a run directory (choose another --run-dir)")
-    if not (run_dir / CONFIG).is_file() and run_dir.is_dir() and any(p.name != LOCK_FILE for p in run_dir.iterdir()):
-        raise TrainError(f"{run_dir} exists and is not a unified-manip run directory; choose another --run-dir")
-    created = not run_dir.exists()
-    lock = DirectoryLock(run_dir, "run directory")
     try:
-        lock.acquire(wait_s=lock_wait_s)
-    except DirectoryInUse as err:
+        with rundir.owned(run_dir, lock_wait_s):  # everything below runs as the directory's only owner
+            return _train_owned(req, run_dir, config, params, device, progress, log, threads)
+    except RunDirectoryError as err:
         raise TrainError(str(err)) from None
-    try:  # everything below runs as the run directory's only owner
-        return _train_owned(req, run_dir, config, params, device, progress, log, threads)
-    except TrainError:
-        if created and [p.name for p in run_dir.iterdir()] == [LOCK_FILE]:  # refused before writing anything
-            lock.path.unlink()
-            run_dir.rmdir()
-        raise
-    finally:
-        lock.release()
-
-
-#: What ``--restart`` removes (everything but config.yaml and the lock).
-_RUN_OUTPUTS = ("checkpoints", "monitor", "eval", "best", "tb", "final_model.zip", "replay_buffer.pkl",
-                "vecnormalize.pkl", STATUS)
 
 
 def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], params: dict[str, Any], device: str,
@@ -425,17 +385,9 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
     import torch
 
     algo = get_algo(req.algo)
-    if (run_dir / CONFIG).is_file():
-        stored = _read_config(run_dir)
-        diff = [k for k in _COMPARED if stored.get(k) != config[k]]
-        if diff:
-            raise TrainError(
-                f"{run_dir} holds a different run (it differs in {', '.join(diff)}); choose another --run-dir"
-            )
+    rundir.check_same_run(run_dir, config, _COMPARED)
     if req.restart:
-        for name in _RUN_OUTPUTS:
-            path = run_dir / name
-            shutil.rmtree(path) if path.is_dir() else path.unlink(missing_ok=True)
+        rundir.clear_outputs(run_dir)
         log(f"{run_dir}: restarting from step 0")
     status = read_status(run_dir)
     if status and status.get("state") == "finished":
@@ -542,15 +494,6 @@ def _checked_env(req: TrainRequest):
         raise TrainError(f"cannot make {req.env} with {req.env_config()}: {reason}") from None
 
 
-def _read_config(run_dir: Path) -> dict[str, Any]:
-    from .yamlfile import YamlFileError, load_mapping
-
-    try:
-        return load_mapping(run_dir / CONFIG, "a run's settings (written by unified-manip train)")
-    except YamlFileError as err:
-        raise TrainError(str(err)) from None
-
-
 def _transitions(model) -> int:
     buffer = model.replay_buffer
     return int(buffer.size() * buffer.n_envs)
@@ -608,7 +551,10 @@ def evaluate(
         run_dir = run_dir.parent
     if not (run_dir / CONFIG).is_file():
         raise TrainError(f"{target} is not inside a unified-manip run directory (no {CONFIG} found)")
-    config = _read_config(run_dir)
+    try:
+        config = read_config(run_dir)
+    except RunDirectoryError as err:
+        raise TrainError(str(err)) from None
     env_kwargs = dict(config["env_kwargs"])
     if action_mode is not None and action_mode != env_kwargs["action_mode"]:
         raise TrainError(
