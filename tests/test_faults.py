@@ -208,6 +208,22 @@ def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
     assert row["steps"] == 3000 and curve == sorted(set(curve)) and curve[-1] == 3000 and len(curve) == 15
 
 
+def test_a_retried_run_waits_for_a_live_attempt_and_never_writes_beside_it(tmp_path, monkeypatch):
+    from unified_manip import bench
+    from unified_manip.runlock import DirectoryLock
+    from unified_manip.train import TrainError
+
+    spec = load_grid(_write(tmp_path / "grid.yaml", GRID)).runs[0]
+    run_dir = tmp_path / "out" / "runs" / spec.name
+    monkeypatch.setattr(bench, "RUN_LOCK_WAIT_S", 1.0)
+    with DirectoryLock(run_dir):  # the earlier attempt, alive on another worker
+        start = time.monotonic()
+        with pytest.raises(TrainError, match=f"run directory {re.escape(str(run_dir))} is in use by pid {os.getpid()}"):
+            bench.run_one(spec, str(tmp_path / "out"))
+        assert time.monotonic() - start >= 1.0  # it waited before giving up
+    assert [p.name for p in run_dir.iterdir()] == [".lock"]  # and wrote nothing
+
+
 def _write(path: Path, doc: dict) -> Path:
     path.write_text(yaml.safe_dump(doc))
     return path
