@@ -161,6 +161,31 @@ def test_no_loadable_checkpoint_is_one_line_and_restart_starts_over(killed_in_th
     assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 800
 
 
+def test_a_run_checkpointed_in_the_earlier_one_file_layout_still_resumes(killed_in_third_checkpoint, tmp_path):
+    """Runs checkpointed before the layout changed (latest.json, model_<step>.zip, SB3's
+    whole-buffer pickle) resume too."""
+    from stable_baselines3 import SAC
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    run_dir = copy_of(killed_in_third_checkpoint, tmp_path)
+    root = run_dir / "checkpoints"
+    ckpt = checkpoints.newest(run_dir)
+    env = VecNormalize.load(str(ckpt.path(checkpoints.VECNORMALIZE)),
+                            DummyVecEnv([lambda: gym.make(TASK, action_mode="ee_delta")]))
+    model = SAC.load(ckpt.path(checkpoints.MODEL), env=env)
+    checkpoints.restore_replay_buffer(model, ckpt)
+    model.save(root / "model_400.zip")
+    model.save_replay_buffer(root / "replay_buffer_400.pkl")
+    env.save(str(root / "vecnormalize_400.pkl"))
+    for c in checkpoints.published(run_dir):
+        shutil.rmtree(c.directory)
+    (root / "latest.json").write_text(json.dumps({"num_timesteps": 400, "model": "model_400.zip", "replay_buffer":
+                                                  "replay_buffer_400.pkl", "vecnormalize": "vecnormalize_400.pkl"}))
+    proc = cli(*train_args(run_dir, 800))
+    assert proc.returncode == 0, proc.stderr
+    assert f"{run_dir}: resuming from step 400 of 800 on cpu with 400 transitions in the replay buffer" in proc.stdout
+
+
 # ---------------------------------------------------------------------- benches
 GRID = {
     "name": "faults", "tasks": [TASK], "action_modes": ["ee_delta"], "reward_types": ["sparse"], "algos": ["sac_her"],
