@@ -22,6 +22,7 @@ from gymnasium.vector import AutoresetMode, SyncVectorEnv
 import unified_manip
 from unified_manip.vector import VectorFallbackWarning, native_support
 from unified_manip.vector.env import NativeVectorEnv
+from unified_manip.vector.pool import PhysicsPool
 
 #: Every native ID x mode; the arm over 2 episodes of 3 envs, Fetch (its physics is 20x
 #: dearer) over 1 episode of 2 envs on one task per kind: all modes on PickAndPlace.
@@ -233,3 +234,28 @@ def test_make_close_cycles_leak_nothing():
     assert threading.active_count() == threads
     assert all(r() is None for r in refs)
     assert _rss_mb() - rss < 40, f"RSS grew by {_rss_mb() - rss:.1f} MB over 100 make/close cycles"
+
+
+def test_pool_runs_every_index_and_reraises():
+    pool = PhysicsPool(2)
+    seen = []
+    pool.run(seen.append, range(50))
+    assert sorted(seen) == list(range(50))
+    order = []
+    pool.pipeline(lambda i: order.append(("prepare", i)), lambda i: order.append(("advance", i)), range(10))
+    assert [i for k, i in order if k == "prepare"] == list(range(10))  # in order, on the caller
+    assert sorted(i for k, i in order if k == "advance") == list(range(10))
+
+    def boom(i):
+        if i == 3:
+            raise KeyError(i)
+
+    with pytest.raises(KeyError):
+        pool.run(boom, range(10))
+    with pytest.raises(KeyError):
+        pool.pipeline(lambda i: None, boom, range(10))
+    pool.shutdown()
+    with pytest.raises(RuntimeError, match="shut down"):
+        pool.run(seen.append, [1])
+    with pytest.raises(ValueError, match="num_threads must be a positive int"):
+        PhysicsPool(0)

@@ -6,12 +6,14 @@ so each env keeps its own model, data, reset code and mink IK. A step:
 1. computes the joint modes' controls for all N envs at once in numpy (the formulas of
    :class:`~unified_manip.control.JointControl`, written over rows);
 2. steps the physics of each env on the :class:`~.pool.PhysicsPool`. Per env, a worker
-   writes the controls (under ``ee_delta`` it runs that env's own mink IK, built once
-   with its backend), runs the backend's ``physics_step`` (``mj_step`` releases the
+   writes the controls, runs the backend's ``physics_step`` (``mj_step`` releases the
    GIL), refreshes the site positions, copies ``qpos``/``qvel`` (one ``mj_getState``)
    and the grip site into row ``i`` of shared arrays, and asks the backend for its
    gripper-object distance and grasp (``math.dist`` and a contact scan: cheaper per env
-   than any exact numpy form, and overlapped with the other threads' physics);
+   than any exact numpy form, and overlapped with the other threads' physics). Under
+   ``ee_delta`` the calling thread runs each env's own mink IK (built once with its
+   backend) and hands the env to a worker as soon as its IK is done, so that the IK's
+   Python overlaps the physics instead of contending with it for the GIL;
 3. builds the observations of all N envs at once from those arrays.
 
 The observation layout is the one of ``Arm4Backend.observation``; the constructor
@@ -134,9 +136,9 @@ class VectorizedArm4(BatchedBackend):
         return b.extra_info()
 
     def step(self, actions: np.ndarray, indices: np.ndarray) -> dict[str, np.ndarray]:
-        if self._ee:
+        if self._ee:  # mink (Python) on the calling thread, overlapping the workers' physics
             self._actions[:] = actions
-            self._pool.run(self._step_ee, indices.tolist())
+            self._pool.pipeline(self._control_ee, self._advance, indices.tolist())
             return {"ik_residual": self._residual.copy(), "ik_limit_active": self._limit.copy()}
         n = self._scale.shape[0]
         arm = actions[:, :n] * self._scale
@@ -155,11 +157,10 @@ class VectorizedArm4(BatchedBackend):
         np.copyto(self._ctrl_views[i], self._ctrl[i])
         self._advance(i)
 
-    def _step_ee(self, i: int) -> None:
+    def _control_ee(self, i: int) -> None:
         diagnostics = self._backends[i].control(self._actions[i])
         self._residual[i] = diagnostics["ik_residual"]
         self._limit[i] = diagnostics["ik_limit_active"]
-        self._advance(i)
 
     def _advance(self, i: int) -> None:
         b, w = self._backends[i], self._warn_views[i]

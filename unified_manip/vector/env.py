@@ -167,8 +167,7 @@ class NativeVectorEnv(VectorEnv):
             truncated |= self._elapsed >= self._max_steps
         step_info = {**ctx, "sim_unstable": unstable, **diagnostics, "is_success": success, "reward_terms": terms}
         self._was_grasped = np.where(resetting, grasped, step_grasped)
-        for i in np.flatnonzero(resetting):  # the step after an episode's end resets it
-            self._elapsed[i] = 0
+        self._elapsed[resetting] = 0  # the step after an episode's end reset it
         reward[resetting] = 0.0
         terminated &= stepping
         truncated &= stepping
@@ -189,7 +188,8 @@ class NativeVectorEnv(VectorEnv):
             resetting = done
             done = np.zeros(n, dtype=bool)
         info = vinfo.merge(info, step_info, ~resetting)
-        info = vinfo.merge(info, self._reset_info(obs, g2o, grasped, reset_extra), resetting)
+        if resetting.any():
+            info = vinfo.merge(info, self._reset_info(obs, g2o, grasped, reset_extra), resetting)
         for key, value in obs.items():
             self._last_obs[key] = value.copy()
         self._autoreset = done

@@ -16,7 +16,7 @@ import numpy as np
 
 
 def merge(out: dict[str, Any], values: Mapping[str, Any], mask: np.ndarray) -> dict[str, Any]:
-    """Add ``values`` (``(N,)`` arrays, or mappings of them) at the envs where ``mask`` is True.
+    """Add ``values`` (``(N,)`` arrays, or dicts of them) at the envs where ``mask`` is True.
 
     Args:
         out: The info dict being built (modified and returned).
@@ -28,19 +28,24 @@ def merge(out: dict[str, Any], values: Mapping[str, Any], mask: np.ndarray) -> d
     Returns:
         ``out``. Nothing is added when ``mask`` is all False.
     """
-    if not mask.any():
+    every = bool(mask.all())
+    if not every and not mask.any():
         return out
+    shared = mask.copy()  # one mask array for the keys this call adds
     for key, value in values.items():
-        if isinstance(value, Mapping):
+        if type(value) is dict:
             array = merge(out.get(key, {}), value, mask)
         else:
             array = out.get(key)
-            if array is None:
-                array = np.zeros(mask.shape + np.shape(value)[1:], dtype=np.asarray(value).dtype)
-            array[mask] = np.asarray(value)[mask]
+            if array is None and every:  # the common case: every env reports the key
+                array = np.array(value)
+            else:
+                if array is None:
+                    array = np.zeros(mask.shape + np.shape(value)[1:], dtype=np.asarray(value).dtype)
+                array[mask] = np.asarray(value)[mask]
         seen = out.get(f"_{key}")
         out[key] = array
-        out[f"_{key}"] = mask.copy() if seen is None else seen | mask
+        out[f"_{key}"] = shared if seen is None else seen | mask
     return out
 
 

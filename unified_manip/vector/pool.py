@@ -12,7 +12,7 @@ amounts (contacts, IK) without any partitioning.
 from __future__ import annotations
 
 import os
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from typing import Callable, Sequence
 
 
@@ -78,6 +78,36 @@ class PhysicsPool:
             f.result()
         if failed:
             raise failed[0]
+
+    def pipeline(self, prepare: Callable[[int], None], advance: Callable[[int], None], indices: Sequence[int]) -> None:
+        """``prepare(i)`` then ``advance(i)`` for every ``i``: the calling thread runs every
+        ``prepare`` in order and hands each ``advance`` to the worker threads as soon as
+        its ``prepare`` is done.
+
+        For steps whose first part is Python that holds the GIL (mink's IK) and whose
+        second part is mostly ``mj_step`` (which releases it): the Python of one thread
+        overlaps the physics of the others, where :meth:`run` would have two threads
+        contend for the GIL. With one thread, runs both parts in turn.
+
+        Raises:
+            RuntimeError: The pool was shut down.
+        """
+        if self.closed:
+            raise RuntimeError("the physics thread pool is shut down (the vector env was closed)")
+        if self._executor is None:
+            for i in indices:
+                prepare(i)
+                advance(i)
+            return
+        futures = []
+        try:
+            for i in indices:
+                prepare(i)
+                futures.append(self._executor.submit(advance, i))
+        finally:
+            wait(futures)
+        for f in futures:
+            f.result()  # re-raise the first failure
 
     def shutdown(self) -> None:
         """Stop the worker threads and wait for them; idempotent."""
