@@ -134,6 +134,21 @@ def test_diverged_physics_keeps_last_observation():
     assert out[4]["sim_unstable"].tolist() == [False, True, False] and out[3].tolist() == [False, True, False]
     for k in range(3):  # the next step autoresets env 1
         assert_same(native.step(actions), reference.step(actions), f"step {k}")
+    # A last substep that leaves a NaN velocity (MuJoCo only flags it on the next step):
+    # a non-finite observation is a divergence too.
+    last = native.step(actions)[0]
+    backend = native._batched._backends[2]
+    physics = backend.physics_step
+
+    def diverge():
+        physics()
+        backend.data.qvel[:] = np.nan
+
+    backend.physics_step = diverge
+    obs, _, _, truncated, info = native.step(actions)
+    assert info["sim_unstable"].tolist() == [False, False, True] and truncated.tolist() == [False, False, True]
+    assert all(np.array_equal(obs[k][2], last[k][2]) for k in obs) and all(np.isfinite(v).all() for v in obs.values())
+    assert info["grip_to_object"][2] == 0.0
 
 
 # ---------------------------------------------------------------------- spaces and conventions

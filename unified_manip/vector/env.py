@@ -138,8 +138,10 @@ class NativeVectorEnv(VectorEnv):
         reset_extra: dict[str, np.ndarray] = {}
         for i in np.flatnonzero(resetting):
             reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
-        unstable = self._batched.unstable() & stepping
         obs = self._batched.observations()
+        # MuJoCo flags (and resets) a diverged state only at the start of its next substep,
+        # so a non-finite observation is a divergence too (as in the single env).
+        unstable = (self._batched.unstable() | ~np.isfinite(obs["observation"].sum(axis=1))) & stepping
         # A diverged simulator has no meaningful state: keep the last finite observation.
         if unstable.any():
             for key, value in obs.items():
