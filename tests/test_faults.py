@@ -10,6 +10,7 @@ until the ``PAUSED`` file it creates is removed.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import re
@@ -30,7 +31,7 @@ import yaml
 import unified_manip
 from unified_manip import checkpoints
 from unified_manip.bench import load_grid, read_results, run_grid
-from unified_manip.registry import TASKS, TaskSpec, register_task
+from unified_manip.registry import TASKS, register_task
 from unified_manip.runlock import read_owner
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -256,16 +257,18 @@ def _write(path: Path, doc: dict) -> Path:
 
 # ---------------------------------------------------------------------- diverging physics
 class DivergesOnStep:
-    """The arm's backend, whose physics is made to blow up (NaN state) on its k-th step."""
+    """The arm's backend, whose physics blows up on its k-th step: the last substep leaves
+    a NaN velocity, which MuJoCo itself would only notice (and reset) on the next step."""
 
     def __init__(self, inner, k: int) -> None:
         self.inner, self.k, self.steps = inner, k, 0
 
     def step(self, action):
         self.steps += 1
+        diagnostics = self.inner.step(action)
         if self.steps == self.k:
-            self.inner.data.qpos[:] = np.nan  # what a diverging integrator leaves behind
-        return self.inner.step(action)
+            self.inner.data.qvel[:] = np.nan  # what a diverging integrator leaves behind
+        return diagnostics
 
     def __getattr__(self, name):
         return getattr(self.inner, name)
@@ -275,8 +278,8 @@ class DivergesOnStep:
 def diverging_task():
     """``UnifiedManip/ArmDiverges-v0``, registered for this test only."""
     base = TASKS[TASK]
-    spec = TaskSpec(**{**base.__dict__, "name": "ArmDiverges", "family": "test",
-                       "make_backend": lambda config: DivergesOnStep(base.make_backend(config), k=130)})
+    spec = dataclasses.replace(base, name="ArmDiverges", family="test",
+                               make_backend=lambda config: DivergesOnStep(base.make_backend(config), k=130))
     register_task(spec)
     try:
         yield spec.id

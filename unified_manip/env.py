@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -111,8 +112,14 @@ class UnifiedManipEnv(GoalEnv):
         action = self._validate_action(action)
         diagnostics = self._backend.step(action)
         unstable = self._backend.unstable()
-        # A diverged simulator has no meaningful state: keep the last finite observation.
-        obs = {k: v.copy() for k, v in self._last_obs.items()} if unstable else self._observation_dict()
+        obs = None if unstable else self._observation_dict()
+        # MuJoCo flags (and resets) a diverged state at the start of its next substep, so
+        # the last substep of a step can leave one without a warning: a non-finite
+        # observation (it holds the state the goals are read from) is a divergence too.
+        if obs is not None and not math.isfinite(obs["observation"].sum()):
+            unstable = True
+        if unstable:  # a diverged simulator has no meaningful state: keep the last finite observation
+            obs = {k: v.copy() for k, v in self._last_obs.items()}
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         if unstable:
