@@ -22,7 +22,7 @@ def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 
 
 def test_list_shows_every_id_with_modes_rewards_goal_dim_and_length():
-    out = run("list").stdout
+    out = run("list", "--width", "320").stdout  # wide enough that no cell wraps
     for tid, spec in unified_manip.TASKS.items():
         row = next(line for line in out.splitlines() if tid in line)
         cells = [c.strip() for c in re.split(r"[│|]", row) if c.strip()]

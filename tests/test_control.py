@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 from conftest import make
 
+import unified_manip
+
 TASK = "UnifiedManip/Arm4PickAndPlace-v0"
 
 
@@ -14,6 +16,10 @@ def _env(mode):
     env.reset(seed=0)
     backend = env.unwrapped._backend
     return env, backend, backend.rig
+
+
+def _config(mode):
+    return unified_manip.TASKS[TASK].controllers[mode]
 
 
 def _qpos(rig):
@@ -47,7 +53,7 @@ def test_joint_delta_targets_are_relative_to_the_measured_position():
         q_before = _qpos(rig)
         env.step(a)
         np.testing.assert_allclose(
-            backend.data.ctrl[rig.actuator_ids], np.clip(q_before + a[:4] * rig.gains.max_delta, rig.lower, rig.upper)
+            backend.data.ctrl[rig.actuator_ids], np.clip(q_before + a[:4] * _config("joint_delta").max_delta, rig.lower, rig.upper)
         )
         moved.append(_qpos(rig)[0] - q_before[0])
     assert all(m > 0 for m in moved)
@@ -69,7 +75,7 @@ def test_joint_velocity_tracks_commanded_speed():
     for _ in range(10):
         env.step(a)
     speed = backend.data.qvel[rig.dof_adr][0]
-    assert speed == pytest.approx(0.25 * rig.max_velocity[0], rel=0.1)
+    assert speed == pytest.approx(0.25 * _config("joint_velocity").max_velocity, rel=0.1)
 
 
 def test_joint_torque_zero_holds_against_gravity_and_pushes_when_asked():
@@ -89,7 +95,7 @@ def test_joint_torque_zero_holds_against_gravity_and_pushes_when_asked():
 
 
 def test_ee_delta_moves_grip_site_in_commanded_direction():
-    """A steady command moves the grip site along it, at 50-100% of ee_step per step
+    """A steady command moves the grip site along it, at 50-100% of the step per step
     (targets are relative to the measured position, so the servos' lag is not made up)."""
     env, backend, rig = _env("ee_delta")
     site = lambda: backend.data.site_xpos[rig.site_id].copy()  # noqa: E731
@@ -104,7 +110,8 @@ def test_ee_delta_moves_grip_site_in_commanded_direction():
         moved = site() - start
         per_step = abs(moved[axis]) / 5
         assert np.sign(moved[axis]) == np.sign(a[axis])
-        assert 0.5 * 0.5 * rig.gains.ee_step <= per_step <= 0.5 * rig.gains.ee_step * 1.05, (axis, moved)
+        step = _config("ee_delta").step
+        assert 0.5 * 0.5 * step <= per_step <= 0.5 * step * 1.05, (axis, moved)
         assert np.delete(np.abs(moved), axis).max() < 0.2 * abs(moved[axis])
         assert info["ik_residual"] < 1e-3
         assert info["ik_limit_active"] is False

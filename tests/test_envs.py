@@ -83,7 +83,7 @@ def test_spaces_and_info(id_mode_reward):
     assert info["sim_unstable"] is False
     assert r == pytest.approx(sum(info["reward_terms"].values()), abs=1e-12)
     assert tuple(info["reward_terms"]) == env.unwrapped.reward_spec.term_names
-    if mode == "ee_delta":
+    if mode in ("ee_delta", "ee_target_delta"):
         assert info["ik_residual"] >= 0.0
         assert isinstance(info["ik_limit_active"], bool)
     env.close()
@@ -263,7 +263,7 @@ def test_unknown_action_mode_and_reward_type():
         make(tid, action_mode="cartesian")
     assert str(err.value) == (
         "unknown action_mode 'cartesian'; expected one of 'joint_torque', 'joint_position', "
-        "'joint_delta', 'joint_velocity', 'ee_delta', 'native'"
+        "'joint_delta', 'joint_target_delta', 'joint_velocity', 'ee_delta', 'ee_target_delta', 'native'"
     )
     with pytest.raises(ValueError) as err:
         make(tid, reward_type="shaped")

@@ -11,12 +11,16 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
+#: A family declares which it supports, each with its controller config
+#: (:mod:`unified_manip.controllers`).
 ACTION_MODES: tuple[str, ...] = (
     "joint_torque",
     "joint_position",
     "joint_delta",
+    "joint_target_delta",
     "joint_velocity",
     "ee_delta",
+    "ee_target_delta",
     "native",
 )
 

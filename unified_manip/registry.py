@@ -8,12 +8,13 @@ A task module calls :func:`register_task` at import time. That adds the spec to
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Mapping
 
 import gymnasium as gym
 import numpy as np
 
 from .config import ACTION_MODES, EnvConfig
+from .controllers import ControllerConfig
 from .rewards import TASK_KINDS
 
 if TYPE_CHECKING:
@@ -37,7 +38,8 @@ class TaskSpec:
         family: The simulator family, e.g. ``"arm4"``.
         kind: ``"reach"``, ``"push"`` or ``"grasp"``; selects the dense reward's terms.
         make_backend: Builds the backend for a validated config.
-        action_modes: The action modes this task supports.
+        controllers: The action modes this task supports, each with its controller
+            config, in the order ``unified-manip list`` shows them (``action_modes``).
         goal_dim: Length of ``achieved_goal`` and ``desired_goal``.
         max_episode_steps: The time limit ``gym.make`` applies.
         distance_threshold: Success when the goal distance is below this.
@@ -66,7 +68,7 @@ class TaskSpec:
     family: str
     kind: str
     make_backend: Callable[[EnvConfig], "Backend"]
-    action_modes: tuple[str, ...]
+    controllers: Mapping[str, ControllerConfig]
     goal_dim: int
     max_episode_steps: int
     distance_threshold: float
@@ -92,11 +94,19 @@ class TaskSpec:
     def __post_init__(self) -> None:
         if self.kind not in TASK_KINDS:
             raise ValueError(f"{self.name}: unknown kind {self.kind!r}; expected one of {TASK_KINDS}")
-        unknown = [m for m in self.action_modes if m not in ACTION_MODES]
+        unknown = [m for m in self.controllers if m not in ACTION_MODES]
         if unknown:
             raise ValueError(f"{self.name}: unknown action modes {unknown}; expected from {ACTION_MODES}")
+        bad = [m for m, c in self.controllers.items() if not isinstance(c, ControllerConfig)]
+        if bad:
+            raise TypeError(f"{self.name}: the controllers of {bad} are not ControllerConfig instances")
         if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
             raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
+
+    @property
+    def action_modes(self) -> tuple[str, ...]:
+        """The supported action modes, in declaration order."""
+        return tuple(self.controllers)
 
     @property
     def id(self) -> str:

@@ -11,7 +11,7 @@ z = 0.445 m. Control runs at 50 Hz (10 substeps of 2 ms). The ``native`` mode of
 family is ``joint_delta``, as in the design document.
 
 Modules: :mod:`.scene` (geometry, observation layout), :mod:`.goals` (reset
-distributions), :mod:`.backend` (the MuJoCo backend; imports MuJoCo),
+distributions), :mod:`.controllers` (the action modes), :mod:`.backend` (the MuJoCo backend; imports MuJoCo),
 :mod:`.policies` (scripted policies), :mod:`.docs` (task documentation) and
 :mod:`.specs` (the task specs). The names these modules define can also be imported
 from this package (``from unified_manip.tasks.arm4 import Arm4Backend``), as when the
@@ -22,4 +22,4 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
-__getattr__, __dir__ = reexport(__name__, ("scene", "goals", "backend", "policies", "docs", "specs"))
+__getattr__, __dir__ = reexport(__name__, ("scene", "goals", "controllers", "backend", "policies", "docs", "specs"))

@@ -10,10 +10,13 @@ import numpy as np
 
 from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
-from unified_manip.control import ArmGains, ArmRig, MinkIK, bad_state_warnings, make_mujoco_control
+from unified_manip.controllers.ik import MinkIK
+from unified_manip.controllers.rig import MujocoRig
+from unified_manip.physics import bad_state_warnings
 from unified_manip.rendering import Renderer, SceneOptions
 
 from ..contacts import touches_both
+from .controllers import CONTROLLERS
 from .goals import sample_goal, sample_object_xy
 from .scene import (
     ASSET,
@@ -28,8 +31,6 @@ from .scene import (
     ROBOT_Q,
     SUBSTEPS,
 )
-
-GAINS = ArmGains(kv_velocity=(20.0, 20.0, 12.0, 6.0), max_velocity=2.0, max_delta=0.05, ee_step=0.025)
 
 #: How the arm's scene is drawn: from the model's ``front`` camera, every geom group.
 SCENE = SceneOptions(camera="front")
@@ -56,7 +57,7 @@ def _load_model(with_object: bool) -> mujoco.MjModel:
     return spec.compile()
 
 
-def _home_qpos(model: mujoco.MjModel, rig: ArmRig) -> np.ndarray:
+def _home_qpos(model: mujoco.MjModel, rig: MujocoRig) -> np.ndarray:
     """Arm joint angles putting the grip site at HOME_TARGET, pointing down (IK, once)."""
     data = mujoco.MjData(model)
     ik = MinkIK(model, rig, orientation_cost=1.0, iterations=1)
@@ -78,7 +79,8 @@ class Arm4Backend(Backend):
         self.kind = kind
         self.model = _load_model(with_object=kind != "reach")
         self.data = mujoco.MjData(self.model)
-        self.rig = ArmRig(
+        self.dt = SUBSTEPS * self.model.opt.timestep
+        self.rig = MujocoRig(
             self.model,
             self.data,
             joints=("j0", "j1", "j2", "j3"),
@@ -87,13 +89,12 @@ class Arm4Backend(Backend):
             gripper_closed=0.0,
             gripper_open=FINGER_OPEN,
             site="grip_site",
-            gains=GAINS,
+            dt=self.dt,
+            ee_rotation=top_down,
         )
         self._home = _home_qpos(self.model, self.rig)
-        mode = "joint_delta" if config.action_mode == "native" else config.action_mode
-        self.control = make_mujoco_control(self.rig, mode, top_down)
+        self.control = CONTROLLERS[config.action_mode].build(self.rig)
         self.action_dim = self.control.action_dim
-        self.dt = SUBSTEPS * self.model.opt.timestep
         m = self.model
         self._arm_q = self.rig.qpos_adr
         self._fingers_q = m.jnt_qposadr[[m.joint("finger_l").id, m.joint("finger_r").id]]

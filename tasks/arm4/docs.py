@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
-from unified_manip.config import ACTION_MODES
+from unified_manip.controllers.docs import modes_section
+
+from .controllers import CONTROLLERS
+
+_MODES = f"""Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
++1 open; native is joint_delta, the design document's scheme):
+{modes_section(CONTROLLERS)}"""
 
 _TABLE_HEAD = """\
     =====  ==========================================  ==========
@@ -26,7 +32,7 @@ Observation (18,):
     15-17  goal - grip site                            m
 {_TABLE_END}
 Goal (3,): achieved = grip-site position, desired = goal point, m.
-Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+{_MODES}
 Dense reward: reach = 1 - tanh(5 d), success bonus 10.
 Version history: v0 initial.
 """
@@ -54,7 +60,7 @@ at least 10 cm from the cube. Success: the cube's centre is within 5 cm of the g
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
-Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+{_MODES}
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d)) without a
 grasp gate, success bonus 10.
 Version history: v0 initial.
@@ -70,7 +76,7 @@ Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
-Action modes: {", ".join(ACTION_MODES)} (native = joint_delta).
+{_MODES}
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
 success bonus 10; ``grasped`` means both fingers touch the cube.
 Version history: v0 initial.

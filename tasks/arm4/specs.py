@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from unified_manip.config import ACTION_MODES
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
 from ..scripted import EEDeltaPolicy
+from .controllers import CONTROLLERS
 from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC
 from .policies import pick_and_place_policy, push_policy, reach_policy
 
@@ -18,7 +18,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         family="arm4",
         kind=kind,
         make_backend=lazy(_BACKEND, kind=kind),
-        action_modes=ACTION_MODES,
+        controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=steps,
         distance_threshold=0.05,

@@ -20,7 +20,8 @@ sampling and observation code), so every task is exactly upstream's.
   copy so the constraint and the limit do not fight). The layout of ``qpos`` is
   unchanged, so upstream's reset and observation code run on the copy unmodified.
 
-Modules: :mod:`.scene` (names, gains, observation layout), :mod:`.model`,
+Modules: :mod:`.scene` (names, gains, observation layout), :mod:`.controllers`
+(the action modes), :mod:`.model`,
 :mod:`.backend` (imports gymnasium-robotics and MuJoCo), :mod:`.policies`,
 :mod:`.docs`, :mod:`.specs`. Their names can also be imported from this package, as
 when the family was one module; they are imported on first access.
@@ -30,4 +31,4 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
-__getattr__, __dir__ = reexport(__name__, ("scene", "model", "backend", "policies", "docs", "specs"))
+__getattr__, __dir__ = reexport(__name__, ("scene", "controllers", "model", "backend", "policies", "docs", "specs"))

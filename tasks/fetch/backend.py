@@ -13,10 +13,11 @@ from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
 from unified_manip.config import EnvConfig
 from unified_manip.rendering import SceneOptions
-from unified_manip.control import ArmGains, ArmRig, make_mujoco_control
+from unified_manip.controllers.rig import MujocoRig
 
 from ..contacts import touches_both
 from ..upstream import UpstreamBackend
+from .controllers import CONTROLLERS
 from .model import actuated_model
 from .scene import (
     ARM_ACTUATORS,
@@ -30,11 +31,9 @@ from .scene import (
     OBS_REL,
 )
 
-GAINS = ArmGains(kv_velocity=(50.0, 50.0, 50.0, 50.0, 20.0, 20.0, 10.0), max_velocity=1.0, max_delta=0.05, ee_step=0.05)
-
-
 #: How the scene is drawn: upstream's free camera, every geom group.
 SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)
+
 
 class FixedRotation:
     """The IK's target rotation: always the grip site's initial one (a picklable callable)."""
@@ -61,6 +60,8 @@ class FetchBackend(UpstreamBackend):
         self.mode = config.action_mode
         up = self._up
         self._native = self.mode == "native"
+        # The joint-space modes observe the arm's joints too (14 entries).
+        self._joint_obs = CONTROLLERS[self.mode].space == "joint"
         if not self._native:
             model = actuated_model(up.fullpath, up.initial_qpos, config.render_width, config.render_height)
             up.model, up.data = model, mujoco.MjData(model)
@@ -70,7 +71,7 @@ class FetchBackend(UpstreamBackend):
             up.data.qvel[:] = up.initial_qvel
             mujoco.mj_forward(up.model, up.data)
             blocked = up.block_gripper  # Reach, Push, Slide: fingers held closed
-            self.rig = ArmRig(
+            self.rig = MujocoRig(
                 up.model,
                 up.data,
                 joints=ARM_JOINTS,
@@ -79,10 +80,11 @@ class FetchBackend(UpstreamBackend):
                 gripper_closed=0.0,
                 gripper_open=0.0 if blocked else FINGER_OPEN,
                 site=GRIP_SITE,
-                gains=GAINS,
+                dt=up.dt,
             )
             rotation = up.data.site_xmat[self.rig.site_id].reshape(3, 3).copy()  # pointing down
-            self.control = make_mujoco_control(self.rig, self.mode, FixedRotation(rotation))
+            self.rig.ee_rotation = FixedRotation(rotation)
+            self.control = CONTROLLERS[self.mode].build(self.rig)
             self.action_dim = self.control.action_dim
         else:
             self.action_dim = 4
@@ -115,7 +117,7 @@ class FetchBackend(UpstreamBackend):
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
         obs = self._obs["observation"]
-        if self._native or self.mode == "ee_delta":
+        if not self._joint_obs:
             return obs
         d = self._up.data
         return np.concatenate((obs, d.qpos[self._arm_q], d.qvel[self._arm_v]))

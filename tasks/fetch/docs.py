@@ -2,28 +2,25 @@
 
 from __future__ import annotations
 
-_MODES = """Action modes (action in [-1, 1]; the last entry commands the fingers, -1 closed,
-+1 open, except on tasks whose gripper upstream blocks, where the fingers stay closed):
-    native          upstream's mocap control, unchanged: (dx, dy, dz, gripper), the
-                    mocap target moves 5 cm per unit; the gripper entry is upstream's
-                    relative finger command. The action is cast to float32 first, as
-                    upstream's action space does.
-    ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by mink
-                    IK on the 7 arm joints only (base and torso frozen), gripper kept
-                    pointing down.
-    joint_torque    7 arm torques (limits 150, 250, 150, 150, 80, 80, 60 N m) + gripper.
-    joint_position  7 absolute arm targets over the joint ranges (+-pi on the three
-                    unlimited roll joints) + gripper.
-    joint_delta     7 arm targets q + 0.05 a rad + gripper.
-    joint_velocity  7 arm velocities, 1 rad/s per unit + gripper.
-The non-native modes run on a copy of the model without the mocap weld, with position
-servos (kp 3000, 3000, 3000, 3000, 1500, 1500, 1000 N m/rad), gravity compensation on the arm and
-the base slides and torso frozen by joint equality constraints (see ``tasks/fetch/``).
-In the joint modes the observation gains 14 entries: the 7 arm angles (rad, shoulder
-pan, shoulder lift, upper-arm roll, elbow flex, forearm roll, wrist flex, wrist roll)
-and their velocities (rad/s). native and ee_delta keep upstream's vector exactly."""
+from unified_manip.controllers.docs import modes_section
 
-_OBJECT_OBS = """Observation (25,) in native and ee_delta (upstream's vector exactly; +14 in the joint
+from .controllers import CONTROLLERS
+
+_MODES = f"""Action modes (action in [-1, 1]; the last entry commands the fingers, -1 closed,
++1 open, except on tasks whose gripper upstream blocks, where the fingers stay closed;
+the joint modes command the 7 arm joints, the ee modes (dx, dy, dz), with mink IK on
+the 7 arm joints only, base and torso frozen, gripper kept pointing down):
+{modes_section(CONTROLLERS)}
+Torque limits: 150, 250, 150, 150, 80, 80, 60 N m; the three unlimited roll joints
+command +-pi. The non-native modes run on a copy of the model without the mocap weld,
+with position servos (kp 3000, 3000, 3000, 3000, 1500, 1500, 1000 N m/rad), gravity
+compensation on the arm and the base slides and torso frozen by joint equality
+constraints (see ``tasks/fetch/``). In the joint modes the observation gains 14
+entries: the 7 arm angles (rad, shoulder pan, shoulder lift, upper-arm roll, elbow
+flex, forearm roll, wrist flex, wrist roll) and their velocities (rad/s). native and
+the ee modes keep upstream's vector exactly."""
+
+_OBJECT_OBS = """Observation (25,) in native and the ee modes (upstream's vector exactly; +14 in the joint
 modes, see below). Velocities are upstream's: displacement per env step (m or rad
 per 0.04 s).
     0-2    grip-site position (world)                         m
@@ -46,7 +43,7 @@ The goal is the initial grip position (1.342, 0.749, 0.535) m plus a uniform off
 [-0.15, 0.15] m on each axis. No object; the gripper is blocked closed. Success: the
 grip site is within 5 cm of the goal. 50 steps of 40 ms (20 substeps of 2 ms).
 
-Observation (10,) in native and ee_delta (upstream's vector exactly; +14 in the joint
+Observation (10,) in native and the ee modes (upstream's vector exactly; +14 in the joint
 modes). Velocities are displacement per env step.
     0-2    grip-site position (world)                         m
     3-4    finger openings (right, left)                      m

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from unified_manip.config import ACTION_MODES
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
 from ..scripted import EEDeltaPolicy
+from .controllers import CONTROLLERS
 from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
 from .policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
 
@@ -22,7 +22,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         family="fetch",
         kind=kind,
         make_backend=lazy(_BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), kind=kind),
-        action_modes=ACTION_MODES,
+        controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=50,
         distance_threshold=0.05,

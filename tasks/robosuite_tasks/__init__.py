@@ -37,4 +37,4 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
-__getattr__, __dir__ = reexport(__name__, ("options", "suite", "goals", "backend", "policies", "docs", "specs"))
+__getattr__, __dir__ = reexport(__name__, ("options", "controllers", "rig", "suite", "goals", "backend", "policies", "docs", "specs"))

@@ -11,22 +11,15 @@ import numpy as np
 
 from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
-from unified_manip.control import IKJoints, MinkIK
+from unified_manip.controllers.ik import IKJoints
 from unified_manip.physics import bad_state_warnings
 from unified_manip.rendering import Renderer, SceneOptions
 
+from .controllers import CONTROLLERS
 from .goals import TASK_DEFS
 from .options import validate_options
-from .suite import (
-    EE_ORIENTATION_COST,
-    EE_STEP,
-    EE_YIELD_ORIENTATION_COST,
-    EE_YIELD_RESIDUAL,
-    MAX_LEAD,
-    MAX_VELOCITY,
-    UNLIMITED_RANGE,
-    make_upstream,
-)
+from .rig import SuiteRig
+from .suite import UNLIMITED_RANGE, make_upstream
 
 #: How robosuite scenes are drawn: robosuite's ``frontview`` camera for frames and its
 #: ``agentview`` camera for the ``image`` observation, without the collision geoms
@@ -63,16 +56,13 @@ class RobosuiteBackend(Backend):
             self.model, robot.robot_joints, self._gripper.important_sites["grip_site"], UNLIMITED_RANGE
         )
         self._grasp_object = self.task.grasp_object(up) if self.task.grasp_object else None
-        n = self.joints.n
-        self.action_dim = {"native": up.action_dim, "ee_delta": 4}.get(self.mode, n + 1)
-        self._command = np.zeros(up.action_dim)
-        self._mid = 0.5 * (self.joints.upper + self.joints.lower)
-        self._half = 0.5 * (self.joints.upper - self.joints.lower)
-        if self.mode == "ee_delta":
-            self.ik = MinkIK(self.model, self.joints, orientation_cost=EE_ORIENTATION_COST, iterations=2)
-            self.ik_yield = MinkIK(self.model, self.joints, orientation_cost=EE_YIELD_ORIENTATION_COST, iterations=2)
-        self._rotation = np.eye(3)
-        self._target = np.zeros(n)
+        self._native = self.mode == "native"
+        if self._native:
+            self.action_dim = up.action_dim
+        else:
+            self.rig = SuiteRig(up, self.joints, self.task.held_rotation)
+            self.control = CONTROLLERS[self.mode].build(self.rig)
+            self.action_dim = self.control.action_dim
         self._goal = np.zeros(0)
         self._obs: dict[str, np.ndarray] = {}
         self._reward = 0.0
@@ -97,46 +87,19 @@ class RobosuiteBackend(Backend):
         self._obs = up.reset()
         self._reward = 0.0
         self._unstable = False
-        if self.mode == "joint_torque":
-            # Controllers are rebuilt at every reset: map |a| = 1 to the actuator limits
-            # (robosuite's JOINT_TORQUE default maps it to 0.1 N m).
-            c = self._robot.part_controllers["right"]
-            c.output_max, c.output_min = c.actuator_max.copy(), c.actuator_min.copy()
-            c.action_scale = None
-        q = self.data.qpos[self.joints.qpos_adr]
-        self._target = q.copy()
-        self._rotation = self.task.held_rotation(self.data.site_xmat[self._grip_site].reshape(3, 3))
+        if not self._native:
+            self.control.reset()
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         self._log.append(action.copy())
         return self._step(action)
 
     def _step(self, action: np.ndarray) -> dict[str, Any]:
-        diagnostics: dict[str, Any] = {}
-        if self.mode == "native":
-            command = action
+        if self._native:
+            command, diagnostics = action, {}
         else:
-            command = self._command.copy()
-            command[-1] = -action[-1]  # robosuite's GRIP: -1 open, +1 closed
-            arm = action[:-1]
-            j = self.joints
-            if self.mode == "joint_position":
-                command[:-1] = self._mid + arm * self._half
-            elif self.mode in ("joint_delta", "joint_torque"):
-                command[:-1] = arm
-            elif self.mode == "joint_velocity":
-                q = self.data.qpos[j.qpos_adr]
-                target = self._target + arm * (MAX_VELOCITY * self.dt)
-                target = np.minimum(np.maximum(target, q - MAX_LEAD), q + MAX_LEAD)
-                self._target = np.minimum(np.maximum(target, j.lower), j.upper)
-                command[:-1] = self._target
-            else:  # ee_delta
-                goal = self.data.site_xpos[self._grip_site] + arm * EE_STEP
-                q_arm, residual, limit_active = self.ik.solve(self.data.qpos, goal, self._rotation)
-                if residual > EE_YIELD_RESIDUAL:  # out of reach holding the orientation: tilt
-                    q_arm, residual, limit_active = self.ik_yield.solve(self.data.qpos, goal, self._rotation)
-                command[:-1] = q_arm
-                diagnostics = {"ik_residual": residual, "ik_limit_active": limit_active}
+            diagnostics = self.control(action)
+            command = self.rig.pending
         before = bad_state_warnings(self.data)
         self._obs, self._reward, _, _ = self._up.step(command)
         self._unstable = bad_state_warnings(self.data) > before

@@ -2,38 +2,26 @@
 
 from __future__ import annotations
 
+from unified_manip.controllers.docs import modes_section
+
+from .controllers import CONTROLLERS
+
 _OPTIONS = """Options: ``robot`` (default "Panda"; also "Sawyer", "UR5e", "IIWA", "Kinova3",
 "Jaco"), ``camera_obs`` (default False: adds an ``image`` key, agentview RGB uint8 of
 ``camera_height`` x ``camera_width``, default 84 x 84), ``camera_width``,
 ``camera_height``. Unknown options raise TypeError, unknown robots ValueError."""
 
-_MODES = """Action modes (action in [-1, 1]; n = the robot's arm joints, 7 on Panda; in every
-mode but native the last entry commands the gripper, -1 closed, +1 open):
-    native          robosuite's default BASIC composite controller, unchanged: OSC_POSE
-                    (dx, dy, dz, droll, dpitch, dyaw; 5 cm and 0.5 rad per unit) + GRIP
-                    with robosuite's sign (-1 open, +1 closed). Same seed and actions give
-                    robosuite.make's observations and reward (``info["native_reward"]``).
-    ee_delta        (dx, dy, dz, gripper): grip-site target 5 cm per unit, solved by
-                    mink IK on the arm joints only (gripper orientation at reset held
-                    as a soft preference, cost 0.3; on Door it is turned to point at
-                    the door, see the task doc; where that leaves more than 5 mm of
-                    position error the step is re-solved with orientation cost 0.01, so
-                    the gripper tilts to reach further, e.g. PickPlaceCan's far bin),
-                    sent as absolute targets to robosuite's
-                    JOINT_POSITION controller (kp 150, critically damped, mass-matrix
-                    and gravity compensated). ``ik_residual`` (m) and ``ik_limit_active``
-                    go to ``info``.
-    joint_position  n absolute targets over the joint ranges (+-pi on continuous
-                    joints) + gripper, robosuite JOINT_POSITION (absolute input).
-    joint_delta     n targets q + 0.05 a rad + gripper, robosuite JOINT_POSITION (delta input).
-    joint_velocity  n joint velocities, 1 rad/s per unit + gripper. robosuite 1.5.2's
-                    JOINT_VELOCITY controller is broken (AttributeError on
-                    ``torque_compensation``), so this mode integrates the command into a
-                    position target, target += a * 1 rad/s * 0.05 s per step, kept within
-                    0.1 rad of the measured position (no wind-up) and the joint range, and
-                    tracks it with the JOINT_POSITION controller (absolute input).
-    joint_torque    n torques, a times the actuator limit (87/12 N m on Panda), plus
-                    robosuite's gravity compensation, JOINT_TORQUE controller + gripper."""
+_MODES = f"""Action modes (action in [-1, 1]; n = the robot's arm joints, 7 on Panda; in every
+mode but native the last entry commands the gripper, -1 closed, +1 open, and the ee
+modes take (dx, dy, dz, gripper)):
+{modes_section(CONTROLLERS)}
+Joint targets (+-pi on continuous joints) go as absolute targets to robosuite's
+JOINT_POSITION controller (kp 150, critically damped, mass-matrix and gravity
+compensated); torques (limits 87/12 N m on Panda) to its JOINT_TORQUE controller, plus
+its gravity compensation. The ee modes hold the gripper orientation at reset (on Door
+turned to point at the door, see the task doc) and put ``ik_residual`` (m) and
+``ik_limit_active`` in ``info``. native, with the same seed and actions, gives
+robosuite.make's observations and reward (``info["native_reward"]``)."""
 
 _OBS = """Observation (float32): robosuite's ``robot0_proprio-state`` then ``object-state``.
 Proprio (Panda: 50): joint pos (n, rad), cos, sin (n each), joint vel (n, rad/s), joint

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from unified_manip.config import ACTION_MODES
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
 from ..scripted import EEDeltaPolicy
+from .controllers import CONTROLLERS
 from .docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
 from .policies import can_policy, door_policy, lift_policy
 
@@ -23,7 +23,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         family="robosuite",
         kind=kind,
         make_backend=lazy(f"{_PACKAGE}.backend:RobosuiteBackend", task=name),
-        action_modes=ACTION_MODES,
+        controllers=CONTROLLERS,
         goal_dim=goal_dim,
         max_episode_steps=steps,
         distance_threshold=threshold,

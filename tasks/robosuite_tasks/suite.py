@@ -8,6 +8,8 @@ from typing import Any
 import robosuite
 from robosuite.controllers import load_composite_controller_config, load_part_controller_config
 
+from .controllers import CONTROLLERS
+
 #: Keyword arguments of ``robosuite.make`` used for every task (besides the env name,
 #: robot and controller config): low-dim observations only, no robosuite renderer,
 #: robosuite never ends the episode itself (our TimeLimit does), fast resets, and a
@@ -28,39 +30,24 @@ UPSTREAM_KWARGS: dict[str, Any] = dict(
 #: JOINT_POSITION gains of the joint-position-based modes (robosuite's default kp is 50,
 #: too soft for an IK-driven end effector at 20 Hz). Torques are kp * M(q) e + ... .
 JOINT_KP = 150.0
-#: Largest joint-target change per step in ``joint_delta``, rad.
-MAX_DELTA = 0.05
-#: Joint speed at |a| = 1 in ``joint_velocity``, rad/s, and how far the integrated
-#: target may lead the measured position, rad.
-MAX_VELOCITY = 1.0
-MAX_LEAD = 0.1
-#: Grip-site displacement at |a| = 1 in ``ee_delta``, m per step (as OSC_POSE's 5 cm).
-EE_STEP = 0.05
-#: ee_delta IK: weight of the held gripper orientation against position, and the
-#: position residual, m, beyond which the orientation yields (a second solve with
-#: ``EE_YIELD_ORIENTATION_COST``) so the arm can tilt the gripper to reach further.
-EE_ORIENTATION_COST = 0.3
-EE_YIELD_RESIDUAL = 0.005
-EE_YIELD_ORIENTATION_COST = 0.01
 #: Command range of joints without limits (Kinova3's continuous joints), rad.
 UNLIMITED_RANGE = (-math.pi, math.pi)
 
 
 def controller_config(mode: str, robot: str) -> dict:
-    """The robosuite composite-controller config for an action mode."""
+    """The robosuite composite-controller config for an action mode: robosuite's
+    default BASIC for ``native``; otherwise the arm part controller that takes the
+    mode's command (:mod:`.controllers`): JOINT_TORQUE for torques, JOINT_POSITION with
+    absolute targets for joint positions; GRIP for the gripper."""
     cfg = load_composite_controller_config(controller="BASIC", robot=robot)
     if mode == "native":
         return cfg
-    if mode == "joint_torque":
+    if CONTROLLERS[mode].command == "torque":
         arm = load_part_controller_config(default_controller="JOINT_TORQUE")
     else:
         arm = load_part_controller_config(default_controller="JOINT_POSITION")
         arm["kp"] = JOINT_KP
-        if mode == "joint_delta":
-            arm["input_type"] = "delta"
-            arm["output_max"], arm["output_min"] = MAX_DELTA, -MAX_DELTA
-        else:  # joint_position, joint_velocity, ee_delta: absolute targets in rad
-            arm["input_type"] = "absolute"
+        arm["input_type"] = "absolute"
     arm["gripper"] = {"type": "GRIP"}
     cfg["body_parts"] = {"right": arm}
     return cfg

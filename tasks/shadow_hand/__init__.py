@@ -24,4 +24,4 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
-__getattr__, __dir__ = reexport(__name__, ("goals", "backend", "docs", "specs"))
+__getattr__, __dir__ = reexport(__name__, ("goals", "controllers", "rig", "backend", "docs", "specs"))

@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
-_MODES = """Action modes (20 entries in [-1, 1], one per actuator, upstream's order: WRJ1, WRJ0,
-FFJ3-1, MFJ3-1, RFJ3-1, LFJ4-1, THJ4-0):
-    native       upstream's absolute targets: ctrl = centre + a * half range of each
-                 actuator's control range (rad).
-    joint_delta  upstream's relative_control: ctrl = q + a * half range, q the joint's
-                 current angle (J1 + J0 for the coupled finger joints), clipped.
-Other modes raise ValueError: the hand has no end effector or torque interface."""
+from unified_manip.controllers.docs import modes_section
+
+from .controllers import CONTROLLERS
+
+_MODES = f"""Action modes (20 entries in [-1, 1], one per actuator, upstream's order: WRJ1, WRJ0,
+FFJ3-1, MFJ3-1, RFJ3-1, LFJ4-1, THJ4-0; q is the actuated joint's angle, J1 + J0 for
+the coupled finger joints, and the range is the actuator's control range):
+{modes_section(CONTROLLERS)}
+joint_delta is upstream's relative_control (whose own code calls mujoco-py APIs and
+fails under the mujoco bindings). Other modes raise ValueError: the hand has no end
+effector or torque interface."""
 
 REACH_DOC = f"""HandReach: move the Shadow Hand's five fingertips to goal positions
 (gymnasium-robotics HandReach-v3).

@@ -5,10 +5,10 @@ from __future__ import annotations
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec, euclidean
 
+from .controllers import CONTROLLERS
 from .docs import BLOCK_DOC, REACH_DOC
 from .goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
 
-ACTION_MODES = ("joint_delta", "native")
 _BACKEND = "unified_manip.tasks.shadow_hand.backend:HandBackend"
 _UPSTREAM = "gymnasium_robotics.envs.shadow_dexterous_hand"
 
@@ -21,7 +21,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         family="shadow_hand",
         kind=kind,
         make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", kind=kind),
-        action_modes=ACTION_MODES,
+        controllers=CONTROLLERS,
         goal_dim=goal_dim,
         max_episode_steps=steps,
         distance_threshold=threshold,

@@ -4,7 +4,8 @@
 so each env keeps its own model, data, reset code and mink IK. A step:
 
 1. computes the joint modes' controls for all N envs at once in numpy (the formulas of
-   :class:`~unified_manip.control.JointControl`, written over rows);
+   :mod:`unified_manip.controllers.joint`, written over rows; the end-effector and
+   target-relative modes run each env's own controller);
 2. steps the physics of each env on the :class:`~.pool.PhysicsPool`. Per env, a worker
    writes the controls, runs the backend's ``physics_step`` (``mj_step`` releases the
    GIL), refreshes the site positions, copies ``qpos``/``qvel`` (one ``mj_getState``)
@@ -28,6 +29,12 @@ import mujoco
 import numpy as np
 
 from ..backend import Backend
+from ..controllers.joint import (
+    JointDeltaController,
+    JointPositionController,
+    JointTorqueController,
+    JointVelocityController,
+)
 from .batched import BatchedBackend
 
 _QPOS_QVEL = int(mujoco.mjtState.mjSTATE_QPOS | mujoco.mjtState.mjSTATE_QVEL)
@@ -44,18 +51,16 @@ _ROBOT_Q = 6
 _CUBE = slice(6, 9)
 
 
-def _joint_scaling(rig, mode: str) -> tuple[np.ndarray, np.ndarray | None]:
-    """``(scale, offset)`` of a joint mode (``offset`` None: relative to the measured q)."""
-    n = rig.n
-    if mode == "joint_torque":
-        return rig.max_torque, np.zeros(n)
-    if mode == "joint_velocity":
-        return rig.max_velocity, np.zeros(n)
-    if mode == "joint_position":
-        return 0.5 * (rig.upper - rig.lower), 0.5 * (rig.upper + rig.lower)
-    if mode == "joint_delta":
-        return np.full(n, rig.gains.max_delta), None
-    raise ValueError(f"not a joint mode: {mode!r}")
+def _joint_scaling(control) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """``(scale, offset)`` of a stateless affine joint controller (``offset`` None:
+    relative to the measured q, clipped to the range), or None for any other controller
+    (the end-effector and target-relative modes), which then runs per env."""
+    stateless = (JointTorqueController, JointPositionController, JointDeltaController, JointVelocityController)
+    if not isinstance(control, stateless):
+        return None
+    if control.offset is None and not control.config.clip:
+        return None
+    return control.scale, control.offset
 
 
 class VectorizedArm4(BatchedBackend):
@@ -73,15 +78,17 @@ class VectorizedArm4(BatchedBackend):
         b0 = self._backends[0]
         self.kind = b0.kind
         self.action_dim = b0.action_dim
-        self._ee = action_mode == "ee_delta"
+        scaling = _joint_scaling(b0.control)
+        self._per_env = scaling is None  # the controller runs per env (IK, or a target it keeps)
+        self._ik = b0.control.config.space == "ee"
         rig = b0.rig
         self._arm_cols = rig.actuator_ids
         self._grip_cols = rig.gripper_ids
         self._qpos_adr = rig.qpos_adr
         self._lower, self._upper = rig.lower, rig.upper
         self._grip_closed, self._grip_span = rig.gripper_closed, rig.gripper_span
-        if not self._ee:
-            self._scale, self._offset = _joint_scaling(rig, "joint_delta" if action_mode == "native" else action_mode)
+        if not self._per_env:
+            self._scale, self._offset = scaling
         m = b0.model
         self._nq = m.nq
         self._state = np.zeros((n, m.nq + m.nv))
@@ -136,9 +143,11 @@ class VectorizedArm4(BatchedBackend):
         return b.extra_info()
 
     def step(self, actions: np.ndarray, indices: np.ndarray) -> dict[str, np.ndarray]:
-        if self._ee:  # mink (Python) on the calling thread, overlapping the workers' physics
+        if self._per_env:  # the controller (mink: Python) on the calling thread, overlapping the workers' physics
             self._actions[:] = actions
-            self._pool.pipeline(self._control_ee, self._advance, indices.tolist())
+            self._pool.pipeline(self._control_one, self._advance, indices.tolist())
+            if not self._ik:
+                return {}
             return {"ik_residual": self._residual.copy(), "ik_limit_active": self._limit.copy()}
         n = self._scale.shape[0]
         arm = actions[:, :n] * self._scale
@@ -157,10 +166,11 @@ class VectorizedArm4(BatchedBackend):
         np.copyto(self._ctrl_views[i], self._ctrl[i])
         self._advance(i)
 
-    def _control_ee(self, i: int) -> None:
+    def _control_one(self, i: int) -> None:
         diagnostics = self._backends[i].control(self._actions[i])
-        self._residual[i] = diagnostics["ik_residual"]
-        self._limit[i] = diagnostics["ik_limit_active"]
+        if self._ik:
+            self._residual[i] = diagnostics["ik_residual"]
+            self._limit[i] = diagnostics["ik_limit_active"]
 
     def _advance(self, i: int) -> None:
         b, w = self._backends[i], self._warn_views[i]

@@ -1,0 +1,21 @@
+"""The 4-DOF arm's action modes: ``{mode: controller config}``."""
+
+from __future__ import annotations
+
+from unified_manip import controllers as ctl
+
+#: Grip-site step of the end-effector modes, m. Half of Fetch's and robosuite's 5 cm
+#: because the arm is controlled twice as often (50 Hz): both move at most 1.25 m/s.
+EE_STEP = 0.025
+
+CONTROLLERS = {
+    "joint_torque": ctl.JointTorque(),
+    "joint_position": ctl.JointPosition(),
+    "joint_delta": ctl.JointDelta(max_delta=0.05),
+    "joint_target_delta": ctl.JointTargetDelta(max_delta=0.05),
+    "joint_velocity": ctl.JointVelocity(max_velocity=2.0, kv=(20.0, 20.0, 12.0, 6.0)),
+    "ee_delta": ctl.EEDelta(step=EE_STEP),
+    "ee_target_delta": ctl.EETargetDelta(step=EE_STEP),
+    # The design document's scheme: native is joint_delta.
+    "native": ctl.JointDelta(max_delta=0.05),
+}

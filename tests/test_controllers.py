@@ -1,0 +1,110 @@
+"""Controller configs: target-relative modes accumulate, configs validate, the mode
+tables are generated from the configs."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import make
+
+import unified_manip
+from unified_manip.controllers import EEDelta, JointDelta, JointTargetDelta, JointVelocity
+from unified_manip.controllers.docs import README_END, README_START, readme_table
+
+ROOT = Path(__file__).resolve().parents[1]
+ARM = "UnifiedManip/Arm4PickAndPlace-v0"
+
+
+def _run(task_id: str, mode: str, action: np.ndarray, steps: int):
+    env = make(task_id, mode, max_episode_steps=1000)
+    env.reset(seed=0)
+    backend = env.unwrapped._backend
+    for _ in range(steps):
+        env.step(action)
+    return env, backend
+
+
+def test_joint_target_delta_accumulates_the_target_not_the_measured_pose():
+    """A constant action: the target grows by a * 0.05 rad per step from the q at reset,
+    whatever the servos' lag; joint_delta re-anchors on the measured q, so it falls behind."""
+    a = np.array([0.6, 0.0, 0.0, 0.0, 1.0], np.float32)
+    step = unified_manip.TASKS[ARM].controllers["joint_target_delta"].max_delta
+    env, backend = _run(ARM, "joint_target_delta", np.zeros(5, np.float32), 0)
+    rig = backend.rig
+    expected = rig.joint_positions().copy()
+    for _ in range(8):
+        env.step(a)
+        expected = np.minimum(np.maximum(expected + a[:4].astype(np.float64) * step, rig.lower), rig.upper)
+        np.testing.assert_array_equal(backend.data.ctrl[rig.actuator_ids], expected)
+    lead = expected[0] - rig.joint_positions()[0]
+    assert lead > 0.005  # the target runs ahead of the lagging joint
+    _, relative = _run(ARM, "joint_delta", a, 8)
+    q = relative.rig.joint_positions()
+    assert relative.data.ctrl[relative.rig.actuator_ids[0]] == pytest.approx(q[0] + 0.6 * step, abs=0.05)
+    assert relative.data.ctrl[relative.rig.actuator_ids[0]] < expected[0] - 0.05
+
+
+def test_ee_target_delta_accumulates_the_site_target():
+    a = np.array([0.0, 0.0, 0.8, 1.0], np.float32)
+    env, backend = _run(ARM, "ee_target_delta", np.zeros(4, np.float32), 0)
+    step = unified_manip.TASKS[ARM].controllers["ee_target_delta"].step
+    start = backend.rig.site_position().copy()
+    for k in range(1, 6):
+        env.step(a)
+        np.testing.assert_allclose(backend.control.target, start + k * a[:3].astype(np.float64) * step, rtol=0, atol=1e-12)
+    ahead = backend.control.target[2] - backend.rig.site_position()[2]
+    _, relative = _run(ARM, "ee_delta", a, 5)
+    moved_target = backend.rig.site_position()[2] - start[2]
+    moved_relative = relative.rig.site_position()[2] - start[2]
+    assert ahead > 0.005 and moved_target > moved_relative  # no lag compounding
+
+
+@pytest.mark.parametrize("task_id", ["UnifiedManip/FetchReach-v0", "UnifiedManip/HandReach-v0", "UnifiedManip/Lift-v0"])
+def test_joint_target_delta_accumulates_on_every_family(task_id):
+    env = make(task_id, "joint_target_delta")
+    env.reset(seed=0)
+    control = env.unwrapped._backend.control
+    n = control.n
+    start = control.target.copy()
+    a = np.zeros(env.action_space.shape, np.float32)
+    a[:n] = np.where(np.arange(n) % 2 == 0, 0.5, -0.5)
+    for _ in range(3):
+        env.step(a)
+    expected = start
+    for _ in range(3):
+        expected = np.clip(expected + a[:n].astype(np.float64) * control.config.max_delta, control.rig.lower, control.rig.upper)
+    np.testing.assert_array_equal(control.target, expected)
+    assert not np.array_equal(control.target, control.rig.joint_positions())
+
+
+@pytest.mark.parametrize(
+    "build, message",
+    [
+        (lambda: JointDelta(max_delta=0.0), "JointDelta.max_delta must be positive, got 0.0"),
+        (lambda: JointDelta(max_delta="half"), "JointDelta.max_delta must be positive, got 'half'"),
+        (lambda: JointTargetDelta(max_delta=-1.0), "JointTargetDelta.max_delta must be positive, got -1.0"),
+        (lambda: JointVelocity(kv=(1.0, 0.0)), "JointVelocity.kv must be positive, got (1.0, 0.0)"),
+        (lambda: EEDelta(step=float("nan")), "EEDelta.step must be positive, got nan"),
+        (lambda: EEDelta(iterations=0), "EEDelta.iterations must be a positive int, got 0"),
+    ],
+)
+def test_configs_validate(build, message):
+    with pytest.raises(ValueError) as err:
+        build()
+    assert str(err.value) == message
+
+
+def test_every_mode_is_documented_from_its_config():
+    for spec in unified_manip.TASKS.values():
+        for mode, config in spec.controllers.items():
+            assert re.search(rf"^    {mode} ", spec.doc, re.M), (spec.id, mode)
+            assert config.describe().replace("`", "")[:40] in " ".join(spec.doc.split()), (spec.id, mode)
+
+
+def test_readme_mode_table_is_the_generated_one():
+    text = (ROOT / "README.md").read_text()
+    start, end = text.index(README_START), text.index(README_END) + len(README_END)
+    assert text[start:end] == readme_table(), "run: python -m unified_manip.controllers.docs"

@@ -1,0 +1,137 @@
+"""The joint-space controllers: one implementation per joint mode, over any rig.
+
+The action is ``n`` joint entries plus, where the rig has a gripper, one gripper entry
+(-1 closed, +1 open). The stateless ones are affine, ``a * scale + offset`` or
+``q + a * scale`` (``offset`` None; clipped to the range if the config says so), and
+say so through ``scale``/``offset`` (the native vector env batches them).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+class _JointController:
+    """What the joint controllers share: the action layout, reset and the command."""
+
+    def __init__(self, config, rig) -> None:
+        self.config, self.rig = config, rig
+        self.n = rig.n
+        self.action_dim = rig.n + int(rig.has_gripper)
+
+    def reset(self) -> None:
+        self.rig.reset(self.config.command)
+
+    def _send(self, arm: np.ndarray, action: np.ndarray) -> dict[str, Any]:
+        self.rig.command(arm, action[self.n] if self.rig.has_gripper else None)
+        return {}
+
+
+class JointTorqueController(_JointController):
+    """Torque ``a * max_torque`` (the rig's limits)."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("torque")
+        self.offset = np.zeros(rig.n)
+
+    @property
+    def scale(self) -> np.ndarray:
+        return self.rig.max_torque
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        return self._send(action[: self.n] * self.rig.max_torque, action)
+
+
+class JointPositionController(_JointController):
+    """Absolute target ``a * half_range + mid`` over each joint's command range."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("position")
+        self.scale = 0.5 * (rig.upper - rig.lower)
+        self.offset = 0.5 * (rig.upper + rig.lower)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        return self._send(action[: self.n] * self.scale + self.offset, action)
+
+
+class JointDeltaController(_JointController):
+    """Target ``q + a * max_delta`` from the measured ``q`` (clipped if configured)."""
+
+    offset = None
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("position")
+        if config.max_delta == "half_range":
+            self.scale = (rig.upper - rig.lower) / 2.0
+        else:
+            self.scale = np.full(rig.n, config.max_delta)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        rig = self.rig
+        target = rig.joint_positions() + action[: self.n] * self.scale
+        if self.config.clip:
+            target = np.minimum(np.maximum(target, rig.lower), rig.upper)
+        return self._send(target, action)
+
+
+class JointTargetDeltaController(_JointController):
+    """Target ``previous target + a * max_delta``, clipped to the range; the measured
+    ``q`` at reset."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("position")
+        self.scale = np.full(rig.n, config.max_delta)
+        self.target = np.zeros(rig.n)
+
+    def reset(self) -> None:
+        super().reset()
+        self.target = np.array(self.rig.joint_positions(), dtype=np.float64)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        rig = self.rig
+        target = self.target + action[: self.n] * self.scale
+        self.target = np.minimum(np.maximum(target, rig.lower), rig.upper)
+        return self._send(self.target.copy(), action)
+
+
+class JointVelocityController(_JointController):
+    """Velocity servos tracking ``a * max_velocity``."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        n = rig.n
+        self.offset = np.zeros(n)
+        self.kv = np.broadcast_to(np.asarray(config.kv, float), (n,)).copy()
+        self.scale = np.broadcast_to(np.asarray(config.max_velocity, float), (n,)).copy()
+        rig.actuate("velocity", kv=self.kv, max_velocity=self.scale)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        return self._send(action[: self.n] * self.scale, action)
+
+
+class IntegratedJointVelocityController(_JointController):
+    """``a * max_velocity`` integrated into a position target, within ``max_lead`` of
+    the measured position and within the range."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("position")
+        self.target = np.zeros(rig.n)
+
+    def reset(self) -> None:
+        super().reset()
+        self.target = np.array(self.rig.joint_positions(), dtype=np.float64)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        rig, c = self.rig, self.config
+        q = rig.joint_positions()
+        target = self.target + action[: self.n] * (c.max_velocity * rig.dt)
+        target = np.minimum(np.maximum(target, q - c.max_lead), q + c.max_lead)
+        self.target = np.minimum(np.maximum(target, rig.lower), rig.upper)
+        return self._send(self.target.copy(), action)
