@@ -137,3 +137,15 @@ def test_only_selects_runs_and_refuses_what_matches_nothing(tmp_path):
         selected(grid, ("algo=td3",))
     proc = cli("bench", str(ROOT / "baselines" / "grids" / "reward_design_1m.yaml"), "--out", str(tmp_path / "b"), "--only", "seed")
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "malformed --only 'seed'" in proc.stderr
+
+
+# ---------------------------------------------------------------------- exploration diagnostic
+def test_exploration_measures_what_random_actions_give_her():
+    from unified_manip.exploration import measure
+
+    arm = measure("UnifiedManip/Arm4Push-v0", "ee_delta", episodes=3)
+    # Arm4Push's goals lie at least 10 cm from the cube: never met by chance.
+    assert arm.chance_success == 0.0 and arm.episode_steps == 100 and arm.control_dt == pytest.approx(0.02)
+    assert 0.0 <= arm.object_moved <= 1.0 and arm.mean_object_displacement_m >= 0.0
+    assert 0.1 < arm.gripper_cm_per_step < 2.5  # ee_delta moves at most 2.5 cm per step
+    assert arm.gripper_cm_per_s == pytest.approx(arm.gripper_cm_per_step / 0.02)

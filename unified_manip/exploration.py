@@ -1,0 +1,117 @@
+"""What random exploration gives HER on each task: ``python -m unified_manip.exploration``.
+
+HER learns about the object only from episodes in which the object moved, and it gets a
+free positive label whenever a goal is met by chance. This measures both under uniform
+random actions (the start of every off-policy run), per task, side by side:
+
+* ``chance success``: the goal is met at the first step, with nothing done;
+* ``random success``: met at the last step of a random episode;
+* ``object moved``: the object ended more than ``moved`` metres from where it started;
+* ``gripper cm/step``: mean distance the grip site travels per control step, and per second.
+
+No training: these are properties of the tasks, which is where issue 10's question "why
+does the arm learn more slowly than Fetch" starts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+#: Task ID and action mode of each compared task (the benchmark's modes).
+DEFAULT_TASKS = (
+    ("UnifiedManip/Arm4Push-v0", "ee_delta"),
+    ("UnifiedManip/FetchPush-v0", "native"),
+    ("UnifiedManip/Arm4PickAndPlace-v0", "ee_delta"),
+    ("UnifiedManip/FetchPickAndPlace-v0", "native"),
+)
+
+
+@dataclass(frozen=True)
+class Exploration:
+    task_id: str
+    action_mode: str
+    episodes: int
+    episode_steps: int
+    control_dt: float
+    chance_success: float
+    random_success: float
+    object_moved: float
+    mean_object_displacement_m: float
+    gripper_cm_per_step: float
+    gripper_cm_per_s: float
+
+
+#: Grip-site names of the compared families (the arm's, then Fetch's).
+GRIP_SITES = ("grip_site", "robot0:grip")
+
+
+def _grip_reader(env):
+    """A function returning the grip-site position of ``env``'s simulation."""
+    import mujoco
+
+    backend = env.unwrapped._backend  # noqa: SLF001 - measuring, not controlling
+    model, data = backend.model, backend.data
+    for name in GRIP_SITES:
+        site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
+        if site >= 0:
+            return lambda: data.site_xpos[site].copy()
+    raise ValueError(f"{env.spec.id} has none of the grip sites {', '.join(GRIP_SITES)}")
+
+
+def measure(task_id: str, action_mode: str, episodes: int = 200, moved: float = 0.02, seed: int = 0) -> Exploration:
+    import gymnasium as gym
+
+    import unified_manip  # noqa: F401
+
+    env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
+    env.action_space.seed(seed)
+    chance, final, moves, disp, travel, steps = 0, 0, 0, [], 0.0, 0
+    for ep in range(episodes):
+        obs, _ = env.reset(seed=seed + ep)
+        start = obs["achieved_goal"].copy()
+        chance += int(env.unwrapped.compute_reward(obs["achieved_goal"], obs["desired_goal"], {}) == 0.0)
+        read = _grip_reader(env)  # (Fetch rebuilds its data on reset)
+        grip, done, info = read(), False, {}
+        while not done:
+            obs, _, terminated, truncated, info = env.step(env.action_space.sample())
+            done = terminated or truncated
+            new = read()
+            travel += float(np.linalg.norm(new - grip))
+            grip, steps = new, steps + 1
+        final += int(info.get("is_success", 0.0) > 0.5)
+        d = float(np.linalg.norm(obs["achieved_goal"] - start))
+        disp.append(d)
+        moves += int(d > moved)
+    spec = env.spec
+    dt = float(env.unwrapped._backend.dt)  # noqa: SLF001
+    env.close()
+    per_step = 100.0 * travel / max(steps, 1)
+    return Exploration(task_id, action_mode, episodes, int(spec.max_episode_steps), dt, chance / episodes,
+                       final / episodes, moves / episodes, float(np.mean(disp)), per_step, per_step / dt)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.exploration", description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=200)
+    parser.add_argument("--json", help="write the results here")
+    args = parser.parse_args(argv)
+    rows = [measure(t, m, args.episodes) for t, m in DEFAULT_TASKS]
+    print("| task | mode | steps x dt | chance success | random success | object moved > 2 cm | "
+          "mean object displacement | gripper cm/step | gripper cm/s |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|")
+    for r in rows:
+        print(f"| {r.task_id.split('/')[-1]} | {r.action_mode} | {r.episode_steps} x {r.control_dt * 1000:.0f} ms | "
+              f"{r.chance_success:.3f} | {r.random_success:.3f} | {r.object_moved:.3f} | "
+              f"{100 * r.mean_object_displacement_m:.1f} cm | {r.gripper_cm_per_step:.2f} | {r.gripper_cm_per_s:.1f} |")
+    if args.json:
+        Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())
