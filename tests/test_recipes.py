@@ -149,3 +149,27 @@ def test_exploration_measures_what_random_actions_give_her():
     assert 0.0 <= arm.object_moved <= 1.0 and arm.mean_object_displacement_m >= 0.0
     assert 0.1 < arm.gripper_cm_per_step < 2.5  # ee_delta moves at most 2.5 cm per step
     assert arm.gripper_cm_per_s == pytest.approx(arm.gripper_cm_per_step / 0.02)
+
+
+# ---------------------------------------------------------------------- new algo keys resume
+def test_crossq_her_resumes_after_kill_9(tmp_path):
+    """Each new algorithm key resumes after a kill with its step count and replay buffer."""
+    import json
+    import signal
+
+    from stable_baselines3.common.save_util import load_from_pkl
+    from test_train import _wait_for_checkpoint, train_args
+
+    run_dir = tmp_path / "run"
+    args = train_args("UnifiedManip/Arm4Reach-v0", "crossq_her", 400, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
+    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    checkpoint = _wait_for_checkpoint(run_dir, 200, proc)
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate(timeout=300)
+    assert not (run_dir / "final_model.zip").exists()
+    resumed = cli(*args)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"resuming from step {checkpoint} of 400" in resumed.stdout
+    assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 400
+    assert load_from_pkl(run_dir / "replay_buffer.pkl").size() == 400
