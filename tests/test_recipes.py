@@ -161,7 +161,7 @@ def test_crossq_her_resumes_after_kill_9(tmp_path):
     from test_train import _wait_for_checkpoint, train_args
 
     run_dir = tmp_path / "run"
-    args = train_args("UnifiedManip/Arm4Reach-v0", "crossq_her", 400, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
+    args = train_args("UnifiedManip/Arm4Reach-v0", "crossq_her", 800, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
     proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     checkpoint = _wait_for_checkpoint(run_dir, 200, proc)
@@ -170,6 +170,6 @@ def test_crossq_her_resumes_after_kill_9(tmp_path):
     assert not (run_dir / "final_model.zip").exists()
     resumed = cli(*args)
     assert resumed.returncode == 0, resumed.stderr
-    assert f"resuming from step {checkpoint} of 400" in resumed.stdout
-    assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 400
-    assert load_from_pkl(run_dir / "replay_buffer.pkl").size() == 400
+    assert f"resuming from step {checkpoint} of 800" in resumed.stdout
+    assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 800
+    assert load_from_pkl(run_dir / "replay_buffer.pkl").size() == 800
