@@ -8,7 +8,6 @@ import os
 import shutil
 import subprocess
 import sys
-import sysconfig
 import tomllib
 from pathlib import Path
 
@@ -80,7 +79,8 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
     python = str(venv / "bin" / "python")
     site = _python("import sysconfig; print(sysconfig.get_paths()['purelib'])", python=python).strip()
-    Path(site, "_checkout_deps.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    deps = [p for p in sys.path if p.endswith("site-packages")]  # this venv's and any it chains to
+    Path(site, "_checkout_deps.pth").write_text("\n".join(deps) + "\n")
     subprocess.run([*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
                    check=True, capture_output=True, timeout=300)
 

@@ -34,6 +34,18 @@ def _choices(values: tuple[str, ...]) -> str:
     return ", ".join(repr(v) for v in values)
 
 
+def validate_action_mode(action_mode: str) -> None:
+    """``ValueError`` naming the valid choices unless ``action_mode`` is one of :data:`ACTION_MODES`."""
+    if action_mode not in ACTION_MODES:
+        raise ValueError(f"unknown action_mode {action_mode!r}; expected one of {_choices(ACTION_MODES)}")
+
+
+def validate_reward_type(reward_type: str) -> None:
+    """``ValueError`` naming the valid choices unless ``reward_type`` is one of :data:`REWARD_TYPES`."""
+    if reward_type not in REWARD_TYPES:
+        raise ValueError(f"unknown reward_type {reward_type!r}; expected one of {_choices(REWARD_TYPES)}")
+
+
 @dataclass(frozen=True)
 class EnvConfig:
     """Options shared by every task family.
@@ -47,6 +59,11 @@ class EnvConfig:
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width in pixels of ``rgb_array`` frames.
         render_height: Height in pixels of ``rgb_array`` frames.
+        reward_config: The reward designs' numbers (:class:`~unified_manip.rewards.RewardConfig`),
+            or ``None`` for the defaults.
+        reward_spec: A reward design of your own
+            (:class:`~unified_manip.rewards.RewardSpec`) used instead of ``reward_type``'s,
+            e.g. a candidate checked by ``unified_manip.sanity``; ``None`` normally.
         options: Family-specific keyword arguments (e.g. ``robot`` for robosuite),
             validated by the family itself.
     """
@@ -57,19 +74,19 @@ class EnvConfig:
     render_mode: str | None = None
     render_width: int = 480
     render_height: int = 480
+    reward_config: Any = None
+    reward_spec: Any = None
     options: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        if self.action_mode not in ACTION_MODES:
-            raise ValueError(
-                f"unknown action_mode {self.action_mode!r}; "
-                f"expected one of {_choices(ACTION_MODES)}"
-            )
-        if self.reward_type not in REWARD_TYPES:
-            raise ValueError(
-                f"unknown reward_type {self.reward_type!r}; "
-                f"expected one of {_choices(REWARD_TYPES)}"
-            )
+        validate_action_mode(self.action_mode)
+        validate_reward_type(self.reward_type)
+        from .rewards import RewardConfig, RewardSpec  # rewards imports this module
+
+        for name, cls in (("reward_config", RewardConfig), ("reward_spec", RewardSpec)):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, cls):
+                raise TypeError(f"{name} must be a {cls.__name__} or None, got {type(value).__name__}")
         if self.render_mode is not None and self.render_mode not in RENDER_MODES:
             raise ValueError(
                 f"unknown render_mode {self.render_mode!r}; "

@@ -11,7 +11,7 @@ from gymnasium_robotics.core import GoalEnv
 
 from .config import EnvConfig
 from .registry import get_task
-from .rewards import info_arrays, make_reward_spec
+from .rewards import info_arrays, reward_spec_for
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -28,6 +28,8 @@ class UnifiedManipEnv(GoalEnv):
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width of ``rgb_array`` frames in pixels.
         render_height: Height of ``rgb_array`` frames in pixels.
+        reward_config: The reward designs' numbers (``unified_manip.rewards.RewardConfig``).
+        reward_spec: A reward design of your own, instead of ``reward_type``'s.
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -51,6 +53,8 @@ class UnifiedManipEnv(GoalEnv):
         render_mode: str | None = None,
         render_width: int = 480,
         render_height: int = 480,
+        reward_config: Any = None,
+        reward_spec: Any = None,
         **options: Any,
     ) -> None:
         self.task = get_task(task_id)
@@ -61,12 +65,14 @@ class UnifiedManipEnv(GoalEnv):
             render_mode=render_mode,
             render_width=render_width,
             render_height=render_height,
+            reward_config=reward_config,
+            reward_spec=reward_spec,
             options=dict(options),
         )
         self.config.require_supported(task_id, self.task.action_modes)
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
-        self.reward_spec = make_reward_spec(reward_type, self.task.kind)
+        self.reward_spec = reward_spec_for(self.config, self.task.shaping)
         self._threshold = self.task.distance_threshold
         self._backend = self.task.make_backend(self.config)
 
@@ -169,6 +175,18 @@ class UnifiedManipEnv(GoalEnv):
         success = (distance < self._threshold).astype(np.float64)
         ctx = info_arrays(info, np.shape(distance))
         return self.reward_spec.total(distance, success, ctx)
+
+    def compute_reward_terms(self, achieved_goal, desired_goal, info, raw: bool = False) -> dict[str, np.ndarray]:
+        """The reward's terms for goals ``(g,)`` or ``(B, g)``, as ``compute_reward``:
+        scaled (they add up to the reward, as ``info["reward_terms"]``) or, with
+        ``raw=True``, before their scales."""
+        achieved_goal = np.asarray(achieved_goal, dtype=np.float64)
+        desired_goal = np.asarray(desired_goal, dtype=np.float64)
+        distance = self.task.goal_distance(achieved_goal, desired_goal)
+        success = (distance < self._threshold).astype(np.float64)
+        ctx = info_arrays(info, np.shape(distance))
+        spec = self.reward_spec
+        return spec.raw_batch(distance, success, ctx) if raw else spec.terms_batch(distance, success, ctx)
 
     def compute_terminated(self, achieved_goal, desired_goal, info):
         """True on success when ``terminate_on_success`` is set, else False."""

@@ -15,7 +15,7 @@ import numpy as np
 
 from .config import ACTION_MODES, EnvConfig
 from .controllers import ControllerConfig
-from .rewards import TASK_KINDS
+from .rewards import SHAPINGS
 
 if TYPE_CHECKING:
     from .backend import Backend
@@ -36,7 +36,8 @@ class TaskSpec:
     Attributes:
         name: Short name, e.g. ``"Arm4Reach"``; the ID is ``UnifiedManip/<name>-v<version>``.
         family: The simulator family, e.g. ``"arm4"``.
-        kind: ``"reach"``, ``"push"`` or ``"grasp"``; selects the dense reward's terms.
+        shaping: The dense rewards' template: ``"reach"`` (no object), ``"push"`` (an
+            object, no grasp gate) or ``"grasp"`` (placing gated by the grasp).
         make_backend: Builds the backend for a validated config.
         controllers: The action modes this task supports, each with its controller
             config, in the order ``unified-manip list`` shows them (``action_modes``).
@@ -66,7 +67,7 @@ class TaskSpec:
 
     name: str
     family: str
-    kind: str
+    shaping: str
     make_backend: Callable[[EnvConfig], "Backend"]
     controllers: Mapping[str, ControllerConfig]
     goal_dim: int
@@ -92,8 +93,8 @@ class TaskSpec:
         return gym.make(self.upstream_id, disable_env_checker=True)
 
     def __post_init__(self) -> None:
-        if self.kind not in TASK_KINDS:
-            raise ValueError(f"{self.name}: unknown kind {self.kind!r}; expected one of {TASK_KINDS}")
+        if self.shaping not in SHAPINGS:
+            raise ValueError(f"{self.name}: unknown shaping {self.shaping!r}; expected one of {SHAPINGS}")
         unknown = [m for m in self.controllers if m not in ACTION_MODES]
         if unknown:
             raise ValueError(f"{self.name}: unknown action modes {unknown}; expected from {ACTION_MODES}")

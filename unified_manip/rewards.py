@@ -27,19 +27,34 @@ The designs (``reward_type``):
 * ``dense_penalized``: ``dense`` plus ``action = -0.01 * sum(a^2)`` and
   ``drop = -10`` on the step a held object is dropped.
 
+Which dense terms a task gets is its *shaping* template (:data:`SHAPINGS`, the
+``TaskSpec.shaping`` of the task): ``reach`` (no object), ``push`` (an object, no grasp
+gate) or ``grasp`` (the place term gated by the grasp).
+
+The numbers above are named in a :class:`RewardConfig` (MuJoCo Playground's
+``reward_config.scales``): ``gym.make(ID, reward_type="dense",
+reward_config=RewardConfig(scales=RewardScales(place=2.0)))`` changes one.
 ``info["reward_terms"]`` holds each term already multiplied by its scale, so the terms
-add up to the step reward.
+add up to the step reward; the raw, unscaled terms come from
+``env.unwrapped.compute_reward_terms(..., raw=True)`` (batched, like
+``compute_reward``) or, per step in ``info["reward_terms_raw"]``, from the
+:class:`unified_manip.wrappers.RawRewardTerms` wrapper.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-#: Task kinds decide which terms the dense rewards use.
-TASK_KINDS: tuple[str, ...] = ("reach", "push", "grasp")
+from .config import validate_reward_type
+
+if TYPE_CHECKING:
+    from .config import EnvConfig
+
+#: Shaping templates: which terms the dense rewards use (``TaskSpec.shaping``).
+SHAPINGS: tuple[str, ...] = ("reach", "push", "grasp")
 
 #: The ``info`` keys the reward terms read.
 INFO_KEYS: tuple[str, ...] = ("grip_to_object", "grasped", "dropped", "action_sq")
@@ -47,28 +62,74 @@ INFO_KEYS: tuple[str, ...] = ("grip_to_object", "grasped", "dropped", "action_sq
 TermFn = Callable[[np.ndarray, np.ndarray, Mapping[str, np.ndarray]], np.ndarray]
 
 
-def _shaped(distance: np.ndarray) -> np.ndarray:
-    return 1.0 - np.tanh(5.0 * distance)
+@dataclass(frozen=True)
+class RewardScales:
+    """The scale of every term (what it is multiplied by in the reward).
+
+    Attributes:
+        sparse: ``success - 1``.
+        reach: ``1 - tanh(g d_reach)``.
+        place: ``gate (1 - tanh(g d_goal))``.
+        success: 1 on success.
+        action: ``-sum(a^2)`` (``dense_penalized``).
+        drop: -1 on the step a held object is let go (``dense_penalized``).
+    """
+
+    sparse: float = 1.0
+    reach: float = 1.0
+    place: float = 5.0
+    success: float = 10.0
+    action: float = 0.01
+    drop: float = 10.0
+
+    def __post_init__(self) -> None:
+        for name, value in vars(self).items():
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not np.isfinite(value):
+                raise ValueError(f"RewardScales.{name} must be a finite number, got {value!r}")
+
+
+@dataclass(frozen=True)
+class RewardConfig:
+    """The reward designs' numbers, named.
+
+    Attributes:
+        scales: Each term's scale.
+        distance_gain: ``g`` of the shaped terms ``1 - tanh(g d)``, per metre (per
+            radian on goals that are angles).
+    """
+
+    scales: RewardScales = field(default_factory=RewardScales)
+    distance_gain: float = 5.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.scales, RewardScales):
+            raise TypeError(f"RewardConfig.scales must be a RewardScales, got {type(self.scales).__name__}")
+        if not isinstance(self.distance_gain, (int, float)) or not self.distance_gain > 0:
+            raise ValueError(f"RewardConfig.distance_gain must be positive, got {self.distance_gain!r}")
+
+
+@dataclass(frozen=True)
+class Shaped:
+    """The shaped term ``gate * (1 - tanh(gain * x))`` (picklable, unlike a closure).
+
+    Attributes:
+        gain: ``g`` of ``1 - tanh(g x)``.
+        of: ``"distance"`` (the goal distance) or an :data:`INFO_KEYS` quantity.
+        gate: An :data:`INFO_KEYS` quantity to multiply by (``"grasped"``), or ``None``.
+    """
+
+    gain: float
+    of: str = "distance"
+    gate: str | None = None
+
+    def __call__(self, distance, success, ctx):
+        x = distance if self.of == "distance" else ctx[self.of]
+        value = 1.0 - np.tanh(self.gain * x)
+        return value if self.gate is None else ctx[self.gate] * value
 
 
 def _sparse(distance, success, ctx):
     return success - 1.0
-
-
-def _reach_goal(distance, success, ctx):
-    return _shaped(distance)
-
-
-def _reach_object(distance, success, ctx):
-    return _shaped(ctx["grip_to_object"])
-
-
-def _place_grasped(distance, success, ctx):
-    return ctx["grasped"] * _shaped(distance)
-
-
-def _place_free(distance, success, ctx):
-    return _shaped(distance)
 
 
 def _success(distance, success, ctx):
@@ -124,31 +185,42 @@ class RewardSpec:
         return out
 
 
-def make_reward_spec(reward_type: str, task_kind: str) -> RewardSpec:
-    """Build the reward design ``reward_type`` for a task of kind ``task_kind``."""
-    if task_kind not in TASK_KINDS:
-        raise ValueError(f"unknown task kind {task_kind!r}; expected one of {TASK_KINDS}")
+    def raw_batch(
+        self, distance: np.ndarray, success: np.ndarray, ctx: Mapping[str, np.ndarray]
+    ) -> dict[str, np.ndarray]:
+        """Unscaled value of every term, each shaped like ``distance``."""
+        return {t.name: t.fn(distance, success, ctx) for t in self.terms}
+
+
+def make_reward_spec(reward_type: str, shaping: str, config: RewardConfig | None = None) -> RewardSpec:
+    """The reward design ``reward_type`` for a task of shaping template ``shaping``,
+    with the numbers of ``config`` (the defaults if ``None``)."""
+    validate_reward_type(reward_type)
+    if shaping not in SHAPINGS:
+        raise ValueError(f"unknown shaping {shaping!r}; expected one of {', '.join(map(repr, SHAPINGS))}")
+    config = config or RewardConfig()
+    k, g = config.scales, config.distance_gain
     if reward_type == "sparse":
-        return RewardSpec("sparse", (Term("sparse", _sparse, 1.0),))
-    if task_kind == "reach":
-        dense = (Term("reach", _reach_goal, 1.0), Term("success", _success, 10.0))
-        penalties = (Term("action", _action, 0.01),)
+        return RewardSpec("sparse", (Term("sparse", _sparse, k.sparse),))
+    if shaping == "reach":
+        dense = (Term("reach", Shaped(g), k.reach), Term("success", _success, k.success))
+        penalties = (Term("action", _action, k.action),)
     else:
-        place = _place_grasped if task_kind == "grasp" else _place_free
         dense = (
-            Term("reach", _reach_object, 1.0),
-            Term("place", place, 5.0),
-            Term("success", _success, 10.0),
+            Term("reach", Shaped(g, of="grip_to_object"), k.reach),
+            Term("place", Shaped(g, gate="grasped" if shaping == "grasp" else None), k.place),
+            Term("success", _success, k.success),
         )
-        penalties = (Term("action", _action, 0.01), Term("drop", _drop, 10.0))
-    if reward_type == "dense":
-        return RewardSpec("dense", dense)
-    if reward_type == "dense_penalized":
-        return RewardSpec("dense_penalized", dense + penalties)
-    raise ValueError(
-        f"unknown reward_type {reward_type!r}; "
-        "expected one of 'sparse', 'dense', 'dense_penalized'"
-    )
+        penalties = (Term("action", _action, k.action), Term("drop", _drop, k.drop))
+    return RewardSpec(reward_type, dense + penalties if reward_type == "dense_penalized" else dense)
+
+
+def reward_spec_for(config: EnvConfig, shaping: str) -> RewardSpec:
+    """The reward design an env with ``config`` uses: its ``reward_spec`` if given, else
+    ``reward_type``'s for ``shaping`` with its ``reward_config``."""
+    if config.reward_spec is not None:
+        return config.reward_spec
+    return make_reward_spec(config.reward_type, shaping, config.reward_config)
 
 
 def info_arrays(info: Any, batch_shape: tuple[int, ...]) -> dict[str, np.ndarray]:

@@ -63,11 +63,10 @@ def dense_reward_check(
     seed: int = 0,
     reward_spec=None,
 ) -> DenseCheck:
-    """Check ``reward_type`` on ``task_id`` (or a candidate ``RewardSpec`` of your own)."""
+    """Check ``reward_type`` on ``task_id`` (or a candidate ``RewardSpec`` of your own,
+    which the env is built with: ``gym.make(..., reward_spec=...)``)."""
     spec = get_task(task_id)
-    env = gym.make(task_id, action_mode=spec.action_modes[-1], reward_type=reward_type)
-    if reward_spec is not None:
-        env.unwrapped.reward_spec = reward_spec
+    env = gym.make(task_id, action_mode=spec.action_modes[-1], reward_type=reward_type, reward_spec=reward_spec)
     rng = np.random.default_rng(seed)
     ag, dg = sample_goal_pairs(env, n_goals, per_goal, rng)
     n = len(ag)

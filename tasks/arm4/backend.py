@@ -71,13 +71,23 @@ def _home_qpos(model: mujoco.MjModel, rig: MujocoRig) -> np.ndarray:
 
 
 class Arm4Backend(Backend):
-    """MuJoCo simulation of the 4-DOF arm for one of the three tasks."""
+    """MuJoCo simulation of the 4-DOF arm for one of the three tasks.
 
-    def __init__(self, config: EnvConfig, kind: str) -> None:
+    Args:
+        config: The validated env config.
+        scene: ``"reach"`` (no cube), ``"push"`` or ``"pick_and_place"``: the model,
+            the goal distribution and the observation layout.
+    """
+
+    SCENES = ("reach", "push", "pick_and_place")
+
+    def __init__(self, config: EnvConfig, scene: str) -> None:
+        if scene not in self.SCENES:
+            raise ValueError(f"unknown Arm4 scene {scene!r}; expected one of {', '.join(map(repr, self.SCENES))}")
         if config.options:
             raise TypeError(f"Arm4 tasks take no extra options, got {sorted(config.options)}")
-        self.kind = kind
-        self.model = _load_model(with_object=kind != "reach")
+        self.scene = scene
+        self.model = _load_model(with_object=scene != "reach")
         self.data = mujoco.MjData(self.model)
         self.dt = SUBSTEPS * self.model.opt.timestep
         self.rig = MujocoRig(
@@ -101,13 +111,13 @@ class Arm4Backend(Backend):
         self._site = self.rig.site_id
         # observation() slices qpos/qvel by the layout of scene.py: check the model has it.
         if (
-            m.nq != (NQ_REACH if kind == "reach" else NQ_OBJECT)
+            m.nq != (NQ_REACH if scene == "reach" else NQ_OBJECT)
             or list(self._fingers_q) != list(range(QPOS_FINGERS.start, QPOS_FINGERS.stop))
             or list(self._arm_q) != list(range(QPOS_ARM.start, QPOS_ARM.stop))
         ):
             raise RuntimeError(f"{ASSET.name}: unexpected joint layout (nq={m.nq}); update arm4/scene.py")
         self._goal_site = m.site("goal").id
-        if kind != "reach":
+        if scene != "reach":
             jnt = m.joint("obj_joint")
             self._obj_q = int(m.jnt_qposadr[jnt.id])
             if self._obj_q != QPOS_CUBE_POS.start:
@@ -125,11 +135,11 @@ class Arm4Backend(Backend):
         d.qpos[self._arm_q] = self._home
         d.qpos[self._fingers_q] = FINGER_OPEN
         xy = None
-        if self.kind != "reach":
+        if self.scene != "reach":
             xy = sample_object_xy(np_random)
             d.qpos[self._obj_q : self._obj_q + 3] = (xy[0], xy[1], CUBE_REST_Z)
             d.qpos[self._obj_q + 3 : self._obj_q + 7] = (1.0, 0.0, 0.0, 0.0)
-        self._goal = sample_goal(self.kind, np_random, xy)
+        self._goal = sample_goal(self.scene, np_random, xy)
         m.site_pos[self._goal_site] = self._goal
         mujoco.mj_forward(m, d)
         self.control.reset()
@@ -157,13 +167,13 @@ class Arm4Backend(Backend):
     def observation(self) -> np.ndarray:
         d = self.data
         grip = d.site_xpos[self._site]
-        if self.kind == "reach":
+        if self.scene == "reach":
             return np.concatenate((d.qpos[ROBOT_Q], d.qvel[ROBOT_Q], grip, self._goal - grip))
         obj = d.qpos[QPOS_CUBE_POS]
         return np.concatenate((d.qpos, d.qvel, grip, obj - grip, self._goal - obj))
 
     def achieved_goal(self) -> np.ndarray:
-        if self.kind == "reach":
+        if self.scene == "reach":
             return self.data.site_xpos[self._site].copy()
         return self.data.qpos[QPOS_CUBE_POS].copy()
 
@@ -171,7 +181,7 @@ class Arm4Backend(Backend):
         return self._goal.copy()
 
     def reward_state(self) -> tuple[float, float]:
-        if self.kind == "reach":
+        if self.scene == "reach":
             return 0.0, 0.0
         d = self.data
         dist = math.dist(d.site_xpos[self._site], d.qpos[QPOS_CUBE_POS])

@@ -19,11 +19,11 @@ def sample_object_xy(rng: np.random.Generator) -> np.ndarray:
     return rng.uniform(OBJECT_XY_LOW, OBJECT_XY_HIGH)
 
 
-def sample_goal(kind: str, rng: np.random.Generator, object_xy: np.ndarray | None) -> np.ndarray:
-    """The goal of a ``"reach"``, ``"push"`` or ``"grasp"`` task, drawn after the cube."""
-    if kind == "reach":
+def sample_goal(scene: str, rng: np.random.Generator, object_xy: np.ndarray | None) -> np.ndarray:
+    """The goal of the ``"reach"``, ``"push"`` or ``"pick_and_place"`` scene, drawn after the cube."""
+    if scene == "reach":
         return rng.uniform(REACH_GOAL_LOW, REACH_GOAL_HIGH)
-    if kind == "push":
+    if scene == "push":
         while True:
             gxy = rng.uniform(PUSH_GOAL_XY_LOW, PUSH_GOAL_XY_HIGH)
             if np.linalg.norm(gxy - object_xy) > PUSH_MIN_DISTANCE:

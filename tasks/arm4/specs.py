@@ -16,8 +16,8 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="arm4",
-        kind=kind,
-        make_backend=lazy(_BACKEND, kind=kind),
+        shaping=shaping,
+        make_backend=lazy(_BACKEND, scene=scene),
         controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=steps,
@@ -27,9 +27,9 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=0.9,
         render_fps=50,
     )
-    for name, kind, steps, doc, policy in (
-        ("Arm4Reach", "reach", 50, REACH_DOC, reach_policy),
-        ("Arm4Push", "push", 100, PUSH_DOC, push_policy),
-        ("Arm4PickAndPlace", "grasp", 100, PICK_AND_PLACE_DOC, pick_and_place_policy),
+    for name, scene, shaping, steps, doc, policy in (
+        ("Arm4Reach", "reach", "reach", 50, REACH_DOC, reach_policy),
+        ("Arm4Push", "push", "push", 100, PUSH_DOC, push_policy),
+        ("Arm4PickAndPlace", "pick_and_place", "grasp", 100, PICK_AND_PLACE_DOC, pick_and_place_policy),
     )
 )

@@ -51,12 +51,12 @@ class FetchBackend(UpstreamBackend):
     Args:
         config: The validated env config.
         upstream_cls: The upstream env class, or its ``"module:Class"`` name.
-        kind: ``"reach"``, ``"push"`` or ``"grasp"``.
+        has_object: Whether the task has an object (all but Reach).
     """
 
-    def __init__(self, config: EnvConfig, upstream_cls: type | str, kind: str) -> None:
+    def __init__(self, config: EnvConfig, upstream_cls: type | str, has_object: bool) -> None:
         super().__init__(config, upstream_cls, "Fetch", SCENE)
-        self.kind = kind
+        self.has_object = has_object
         self.mode = config.action_mode
         up = self._up
         self._native = self.mode == "native"
@@ -91,7 +91,7 @@ class FetchBackend(UpstreamBackend):
         m = up.model
         self._arm_q = m.jnt_qposadr[[m.joint(j).id for j in ARM_JOINTS]]
         self._arm_v = m.jnt_dofadr[[m.joint(j).id for j in ARM_JOINTS]]
-        if kind != "reach":
+        if has_object:
             self._obj_geom = m.geom(OBJECT_GEOM).id
             self._finger_geoms = tuple(m.geom(g).id for g in FINGER_GEOMS)
 
@@ -123,7 +123,7 @@ class FetchBackend(UpstreamBackend):
         return np.concatenate((obs, d.qpos[self._arm_q], d.qvel[self._arm_v]))
 
     def reward_state(self) -> tuple[float, float]:
-        if self.kind == "reach":
+        if not self.has_object:
             return 0.0, 0.0
         rel = self._obs["observation"][OBS_REL]  # object - grip, m
         dist = math.sqrt(float(rel @ rel))

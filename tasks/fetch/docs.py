@@ -52,7 +52,7 @@ modes). Velocities are displacement per env step.
 Goal (3,): achieved = grip-site position, desired = goal point, m.
 
 {_MODES}
-Dense reward: kind "reach": reach = 1 - tanh(5 d), success bonus 10.
+Dense reward: shaping "reach": reach = 1 - tanh(5 d), success bonus 10.
 {_HISTORY.format(upstream="FetchReach-v4")}
 """
 
@@ -66,7 +66,7 @@ resting height (z = 0.425). The gripper is blocked closed. 50 steps of 40 ms.
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: kind "push": reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d))
+Dense reward: shaping "push": reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d))
 without a grasp gate, success bonus 10.
 {_HISTORY.format(upstream="FetchPush-v4")}
 """
@@ -81,7 +81,7 @@ The puck starts within 10 cm (per axis) of the gripper's initial xy; the goal is
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: kind "push" (as FetchPush).
+Dense reward: shaping "push" (as FetchPush).
 {_HISTORY.format(upstream="FetchSlide-v4")}
 """
 
@@ -95,7 +95,7 @@ probability 1/2. The gripper is free. 50 steps of 40 ms.
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: kind "grasp": reach = 1 - tanh(5 |grip - cube|), place = 5 grasped
+Dense reward: shaping "grasp": reach = 1 - tanh(5 |grip - cube|), place = 5 grasped
 (1 - tanh(5 d)), success bonus 10; ``grasped`` means both fingers touch the cube
 (MuJoCo contacts) with the grip site within 5 cm of its centre.
 {_HISTORY.format(upstream="FetchPickAndPlace-v4")}

@@ -20,8 +20,8 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=f"Fetch{name}",
         family="fetch",
-        kind=kind,
-        make_backend=lazy(_BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), kind=kind),
+        shaping=shaping,
+        make_backend=lazy(_BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), has_object=name != "Reach"),
         controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=50,
@@ -35,7 +35,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         # gymnasium-robotics registers its IDs when imported: "module:ID" imports it.
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:Fetch{name}-v4", disable_env_checker=True),
     )
-    for name, module, kind, doc, policy, min_success in (
+    for name, module, shaping, doc, policy, min_success in (
         ("Reach", "reach", "reach", REACH_DOC, reach_policy, 0.9),
         ("Push", "push", "push", PUSH_DOC, push_policy, 0.9),
         ("Slide", "slide", "push", SLIDE_DOC, slide_policy, None),

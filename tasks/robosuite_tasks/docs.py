@@ -55,7 +55,7 @@ lift counts).
 {_MODES}
 {_OPTIONS}
 {_INFO}
-Dense reward: kind "grasp" (reach, grasped-gated place, success bonus).
+Dense reward: shaping "grasp" (reach, grasped-gated place, success bonus).
 {_HISTORY.format(env="Lift")}
 """
 
@@ -80,7 +80,7 @@ contact with B wherever B is.
 {_MODES}
 {_OPTIONS}
 {_INFO}
-Dense reward: kind "grasp".
+Dense reward: shaping "grasp".
 {_HISTORY.format(env="Stack")}
 """
 
@@ -115,7 +115,7 @@ distribution is left as is: those goals are in the bin, and other robots reach f
 {_MODES}
 {_OPTIONS}
 {_INFO}
-Dense reward: kind "grasp".
+Dense reward: shaping "grasp".
 {_HISTORY.format(env="PickPlaceCan")}
 """
 
@@ -138,7 +138,7 @@ design: is_success does not require the gripper to have let go.
 {_MODES}
 {_OPTIONS}
 {_INFO}
-Dense reward: kind "grasp".
+Dense reward: shaping "grasp".
 {_HISTORY.format(env="NutAssemblyRound")}
 """
 
@@ -169,7 +169,7 @@ the lever drags the door).
 {_MODES}
 {_OPTIONS}
 {_INFO}
-Dense reward: kind "push": reach = 1 - tanh(5 |grip - handle|), place = 5 (1 - tanh(5 d))
+Dense reward: shaping "push": reach = 1 - tanh(5 |grip - handle|), place = 5 (1 - tanh(5 d))
 on the angle error d (rad) without a grasp gate, success bonus 10.
 {_HISTORY.format(env="Door")}
 """

@@ -21,7 +21,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="robosuite",
-        kind=kind,
+        shaping=shaping,
         make_backend=lazy(f"{_PACKAGE}.backend:RobosuiteBackend", task=name),
         controllers=CONTROLLERS,
         goal_dim=goal_dim,
@@ -36,7 +36,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         upstream_id=f"robosuite:{name}",
         make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native"),
     )
-    for name, kind, goal_dim, steps, threshold, doc, policy, min_success in (
+    for name, shaping, goal_dim, steps, threshold, doc, policy, min_success in (
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
         ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, None, None),
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),

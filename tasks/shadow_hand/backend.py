@@ -28,19 +28,19 @@ class HandBackend(UpstreamBackend):
     Args:
         config: The validated env config.
         upstream_cls: The upstream env class, or its ``"module:Class"`` name.
-        kind: ``"reach"`` or ``"push"`` (the block).
+        has_object: Whether the task has an object (the block).
     """
 
-    def __init__(self, config: EnvConfig, upstream_cls: type | str, kind: str) -> None:
+    def __init__(self, config: EnvConfig, upstream_cls: type | str, has_object: bool) -> None:
         super().__init__(config, upstream_cls, "Shadow Hand", SCENE)
-        self.kind = kind
+        self.has_object = has_object
         self._native = config.action_mode == "native"
         self.rig = HandRig(self._up.model, self._up.data, self.dt)
         if not self._native:
             self.control = CONTROLLERS[config.action_mode].build(self.rig)
         self.action_dim = self.rig.n
         m = self._up.model
-        if kind != "reach":
+        if has_object:
             self._palm = m.body("robot0:palm").id
             self._obj_q = int(m.jnt_qposadr[m.joint("object:joint").id])
 
@@ -65,7 +65,7 @@ class HandBackend(UpstreamBackend):
     def reward_state(self) -> tuple[float, float]:
         """Block: (palm-to-block distance, 1 while the block is still on the hand, i.e.
         its centre above z = 0.04 m, upstream's reset criterion)."""
-        if self.kind == "reach":
+        if not self.has_object:
             return 0.0, 0.0
         d = self._up.data
         obj = d.qpos[self._obj_q : self._obj_q + 3]

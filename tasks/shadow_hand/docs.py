@@ -29,7 +29,7 @@ Observation (63,), upstream's vector exactly:
 Goal (15,): achieved = fingertip positions, desired = their targets, m.
 
 {_MODES}
-Dense reward: kind "reach": reach = 1 - tanh(5 d), success bonus 10.
+Dense reward: shaping "reach": reach = 1 - tanh(5 d), success bonus 10.
 Version history: v0 initial (over HandReach-v3, gymnasium-robotics 1.4.2).
 """
 
@@ -53,7 +53,7 @@ success is exactly upstream's position-and-rotation criterion; sparse reward =
 success - 1 = upstream's sparse reward.
 
 {_MODES}
-Dense reward: kind "push" (an object, no grasp gate): reach = 1 - tanh(5 |palm -
+Dense reward: shaping "push" (an object, no grasp gate): reach = 1 - tanh(5 |palm -
 block|) keeps the block near the palm, place = 5 (1 - tanh(5 d)), success bonus 10;
 ``grasped`` is 1 while the block is on the hand (centre above z = 0.04 m, upstream's
 reset check), so dense_penalized's drop penalty (-10) fires when it falls off.

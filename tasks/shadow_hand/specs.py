@@ -19,8 +19,8 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="shadow_hand",
-        kind=kind,
-        make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", kind=kind),
+        shaping=shaping,
+        make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", has_object=shaping != "reach"),
         controllers=CONTROLLERS,
         goal_dim=goal_dim,
         max_episode_steps=steps,
@@ -32,7 +32,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         upstream_id=upstream_id,
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),
     )
-    for name, kind, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
+    for name, shaping, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
         ("HandReach", "reach", "reach:MujocoHandReachEnv", "HandReach-v3", 15, 50, 0.01, REACH_DOC, euclidean),
         (
             "HandManipulateBlock", "push", "manipulate_block:MujocoHandBlockEnv", "HandManipulateBlock-v1",

@@ -76,7 +76,7 @@ class VectorizedArm4(BatchedBackend):
         self._backends = list(backends)
         self.num_envs = n = len(self._backends)
         b0 = self._backends[0]
-        self.kind = b0.kind
+        self.kind = b0.scene
         self.action_dim = b0.action_dim
         scaling = _joint_scaling(b0.control)
         self._per_env = scaling is None  # the controller runs per env (IK, or a target it keeps)

@@ -20,7 +20,7 @@ from gymnasium.vector.utils import batch_space
 
 from ..config import EnvConfig
 from ..registry import get_task
-from ..rewards import INFO_KEYS, info_arrays, make_reward_spec
+from ..rewards import INFO_KEYS, info_arrays, reward_spec_for
 from . import infos as vinfo
 from .batched import BatchedBackend
 
@@ -59,7 +59,7 @@ class NativeVectorEnv(VectorEnv):
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode, "render_fps": self.task.render_fps}
         self.render_mode = config.render_mode
-        self.reward_spec = make_reward_spec(config.reward_type, self.task.kind)
+        self.reward_spec = reward_spec_for(config, self.task.shaping)
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched
