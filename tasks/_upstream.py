@@ -1,3 +1,5 @@
 """Kept for old imports: these helpers live in :mod:`unified_manip.tasks.upstream`."""
 
-from .upstream import pickle_upstream, unpickle_upstream, upstream_reset  # noqa: F401
+from .upstream import pickle_upstream, unpickle_upstream, upstream_reset
+
+__all__ = ["pickle_upstream", "unpickle_upstream", "upstream_reset"]

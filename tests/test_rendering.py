@@ -6,7 +6,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-import unified_manip  # noqa: F401
+import unified_manip  # noqa: F401  (registers the IDs)
 from unified_manip.rendering import Renderer, SceneOptions
 
 

@@ -4,8 +4,10 @@
 ``gains``: a mode's scales are in its controller config).
 """
 
-from .controllers.ik import IKJoints, MinkIK, SitePoseTask  # noqa: F401
+from .controllers.ik import IKJoints, MinkIK, SitePoseTask
 from .controllers.rig import MujocoRig
-from .physics import bad_state_warnings  # noqa: F401
+from .physics import bad_state_warnings
 
 ArmRig = MujocoRig
+
+__all__ = ["ArmRig", "IKJoints", "MinkIK", "SitePoseTask", "bad_state_warnings"]

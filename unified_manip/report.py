@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import shlex
-import sys
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
@@ -260,7 +259,3 @@ def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
         )
     lines.append("")
     return lines
-
-
-def main_command() -> str:
-    return shlex.join(["unified-manip", *sys.argv[1:]])

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scripted import toward
+from ..scripted import pick_and_place, toward
 from .scene import FINGER_ON_CUBE, OBS_CUBE, OBS_CUBE_REL, OBS_FINGERS, OBS_GOAL_REL, OBS_GRIP
 
 
@@ -18,18 +18,8 @@ def reach_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
 def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     """Hover over the cube, descend open, close, then carry it to the goal."""
     o = obs["observation"]
-    fingers = o[OBS_FINGERS]
-    to_obj = o[OBS_CUBE_REL]
-    to_goal = o[OBS_GOAL_REL]
-    closed_on_cube = bool(np.all(fingers < FINGER_ON_CUBE + 0.006))
-    if closed_on_cube and np.linalg.norm(to_obj) < 0.02:
-        return np.append(toward(to_goal), -1.0).astype(np.float32)
-    if np.linalg.norm(to_obj[:2]) > 0.012:  # line up above the cube, then come down
-        hover = to_obj + np.array([0.0, 0.0, 0.06])
-        return np.append(toward(hover), 1.0).astype(np.float32)
-    if np.linalg.norm(to_obj) > 0.008:
-        return np.append(toward(to_obj), 1.0).astype(np.float32)
-    return np.array([0.0, 0.0, 0.0, -1.0], dtype=np.float32)
+    closed_on_cube = bool(np.all(o[OBS_FINGERS] < FINGER_ON_CUBE + 0.006))
+    return pick_and_place(o[OBS_CUBE_REL], o[OBS_GOAL_REL], closed_on_cube, align=0.012, hover=0.06, near=0.008)
 
 
 PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL, PUSH_SLOWDOWN = 0.5, 20.0, 0.03, 10.0

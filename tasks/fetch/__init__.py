@@ -31,4 +31,6 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
+__all__ = ["SPECS"]
+
 __getattr__, __dir__ = reexport(__name__, ("scene", "controllers", "model", "backend", "policies", "docs", "specs"))

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ..scripted import toward
+from ..scripted import pick_and_place, toward
 from .scene import OBS_FINGERS, OBS_GRIP, OBS_OBJ, OBS_REL
 
 
@@ -19,17 +19,9 @@ def reach_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
 def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     """Hover over the cube, descend open, close, then carry it to the goal."""
     o = obs["observation"]
-    to_obj = o[OBS_REL]
-    to_goal = obs["desired_goal"] - obs["achieved_goal"]
     closed_on_cube = bool(np.all(o[OBS_FINGERS] < 0.03))
-    if closed_on_cube and np.linalg.norm(to_obj) < 0.02:
-        return np.append(toward(to_goal), -1.0).astype(np.float32)
-    if np.linalg.norm(to_obj[:2]) > 0.01:  # line up above the cube, then come down
-        hover = to_obj + np.array([0.0, 0.0, 0.05])
-        return np.append(toward(hover), 1.0).astype(np.float32)
-    if np.linalg.norm(to_obj) > 0.01:
-        return np.append(toward(to_obj), 1.0).astype(np.float32)
-    return np.array([0.0, 0.0, 0.0, -1.0], dtype=np.float32)
+    to_goal = obs["desired_goal"] - obs["achieved_goal"]
+    return pick_and_place(o[OBS_REL], to_goal, closed_on_cube, align=0.01, hover=0.05, near=0.01)
 
 
 #: Grip-site height above the object's centre while pushing, m. Lower, the fingertips

@@ -37,4 +37,6 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
+__all__ = ["SPECS"]
+
 __getattr__, __dir__ = reexport(__name__, ("options", "controllers", "rig", "suite", "goals", "backend", "policies", "docs", "specs"))

@@ -24,4 +24,6 @@ from unified_manip.lazy import reexport
 
 from .specs import SPECS
 
+__all__ = ["SPECS"]
+
 __getattr__, __dir__ = reexport(__name__, ("goals", "controllers", "rig", "backend", "docs", "specs"))
