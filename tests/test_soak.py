@@ -20,7 +20,9 @@ def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
         capture_output=True, text=True, timeout=900, cwd=ROOT,
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    rows = json.loads(out.read_text())["rows"]
+    document = json.loads(out.read_text())
+    assert document["command"].endswith("--cycles 3 --json " + str(out))
+    rows = document["rows"]
     steps = [r for r in rows if r["part"] == "steps"]
     assert [r["mode"] for r in steps] == list(unified_manip.TASKS[soak.STEP_TASK].action_modes)
     for r in steps:

@@ -205,20 +205,23 @@ def main(argv: list[str] | None = None) -> int:
     if unknown or not parts:
         parser.error(f"unknown part {unknown[0] if unknown else ''!r}; expected steps, frames or cycles")
     os.environ.setdefault("MUJOCO_GL", "egl")
+    command = "python -m unified_manip.soak " + " ".join(sys.argv[1:] if argv is None else argv)
+    for task in {STEP_TASK, *FRAME_TASKS, *CYCLE_TASKS}:  # load every family now, not hours into the run
+        _make(task).close()
     started = time.time()
     rows: list[dict[str, Any]] = []
-    if "steps" in parts:
-        rows += soak_steps(args.steps)
-    if "frames" in parts:
-        rows += soak_frames(args.frames)
-    if "cycles" in parts:
-        rows += soak_cycles(args.cycles)
-    print(tables(rows))
-    print(f"\n{time.time() - started:,.0f} s; command: python -m unified_manip.soak {' '.join(sys.argv[1:] if argv is None else argv)}")
-    if args.json:
-        tmp = Path(args.json).with_name(Path(args.json).name + ".tmp")
-        tmp.write_text(json.dumps({"argv": argv if argv is not None else sys.argv[1:], "rows": rows}, indent=2))
-        os.replace(tmp, args.json)
+    for part, run, size in (("steps", soak_steps, args.steps), ("frames", soak_frames, args.frames),
+                            ("cycles", soak_cycles, args.cycles)):
+        if part not in parts:
+            continue
+        new = run(size)
+        rows += new
+        print(tables(new) + "\n", flush=True)  # each part as soon as it is done: a long run keeps what it measured
+        if args.json:
+            tmp = Path(args.json).with_name(Path(args.json).name + ".tmp")
+            tmp.write_text(json.dumps({"command": command, "seconds": time.time() - started, "rows": rows}, indent=2))
+            os.replace(tmp, args.json)
+    print(f"{time.time() - started:,.0f} s; command: {command}")
     return 0 if all(r["ok"] for r in rows) else 1
 
 
