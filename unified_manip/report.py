@@ -78,7 +78,9 @@ def _curve_band(runs: list[dict[str, Any]]):
     return np.array(steps), mean, low, high
 
 
-def plot_task(task: str, groups: dict, out: Path) -> Path:
+def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
+    """Success against steps, one line per setting; ``targets`` (action mode -> success)
+    are drawn as dashed lines."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -90,6 +92,8 @@ def plot_task(task: str, groups: dict, out: Path) -> Path:
         line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
         if np.isfinite(low).any():
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
+    for mode, level in sorted((targets or {}).items()):
+        ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=f"target, {mode}: {level:.2f}")
     ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
     ax.set_xlabel("environment steps")
     ax.set_ylabel("success rate")
@@ -157,6 +161,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     lines.append("")
 
     grid_file = bench_dir / "grid.yaml"
+    targets: tuple = ()
     if grid_file.is_file():
         import yaml
 
@@ -168,7 +173,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
 
     lines += ["## Success against environment steps", ""]
     for task, groups in by_task.items():
-        fig = plot_task(task, groups, out)
+        fig = plot_task(task, groups, out, {t.action_mode: t.success for t in targets if t.task == task})
         lines += [f"![{task}]({fig.name})", ""]
 
     if any(len({m for _, m, _ in g}) > 1 for g in by_task.values()):
