@@ -173,3 +173,16 @@ def test_crossq_her_resumes_after_kill_9(tmp_path):
     assert f"resuming from step {checkpoint} of 800" in resumed.stdout
     assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 800
     assert load_from_pkl(run_dir / "replay_buffer.pkl").size() == 800
+
+
+def test_evaluation_schedule_counts_env_steps_over_all_training_envs(tmp_path):
+    """eval_freq is in env steps whatever --n-envs is (EvalCallback counts vector steps)."""
+    import numpy as np
+
+    run_dir = tmp_path / "run"
+    proc = cli("train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "joint_delta", "--algo", "sac_her",
+               "--steps", "400", "--n-envs", "4", "--vec", "native", "--run-dir", str(run_dir), "--no-progress",
+               "--set", "learning_starts=240", "--set", "batch_size=32", "--set", "eval_freq=100",
+               "--set", "n_eval_episodes=1")
+    assert proc.returncode == 0, proc.stderr
+    assert np.load(run_dir / "eval" / "evaluations.npz")["timesteps"].tolist() == [100, 200, 300, 400]

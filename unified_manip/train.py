@@ -190,7 +190,10 @@ def _model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> di
 
 # ---------------------------------------------------------------------- callbacks
 def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env, algo_name: str, progress: bool,
-               resumed_at: int = 0):
+               resumed_at: int = 0, n_envs: int = 1):
+    """``n_envs`` is the number of *training* envs: EvalCallback counts calls of the
+    training env's step, each ``n_envs`` env steps, so ``eval_freq`` (env steps) is
+    divided by it."""
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
 
     algo = get_algo(algo_name)
@@ -262,7 +265,6 @@ def _callbacks(model_total: int, run_dir: Path, params: dict[str, Any], eval_env
                 _save_stats(self.model, run_dir / "best" / "vecnormalize.pkl")
             return True
 
-    n_envs = eval_env.num_envs if eval_env is not None else 1
     evaluation = EvalCallback(
         eval_env,
         callback_on_new_best=SaveBestStats(),
@@ -440,7 +442,8 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
-        callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress, resumed_at=int(model.num_timesteps))
+        callbacks = _callbacks(req.steps, run_dir, params, eval_env, req.algo, progress, resumed_at=int(model.num_timesteps),
+                               n_envs=req.n_envs)
         # Ctrl-C and kill both end in a checkpoint. SIGINT is set explicitly: a process
         # started in the background (or by a parent that ignores it) inherits SIG_IGN.
         previous_handler = signal.signal(signal.SIGTERM, _raise_interrupt)
@@ -488,10 +491,20 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
 def _checked_env(req: TrainRequest):
     """The evaluation env; a task that refuses the env keyword arguments is a TrainError."""
     try:
-        return make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+        env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
     except (TypeError, ValueError) as err:  # gymnasium appends where it was raised; keep the task's words
         reason = str(err).split(" was raised from the environment creator")[0]
         raise TrainError(f"cannot make {req.env} with {req.env_config()}: {reason}") from None
+    from .vector.factory import resolve_vec
+
+    if resolve_vec(req.vec, req.env, req.n_envs) == "native":
+        from stable_baselines3.common.vec_env import VecMonitor
+
+        # The same wrapper layers as the training env (VecMonitor over the native env):
+        # EvalCallback copies VecNormalize statistics layer by layer and refuses chains
+        # that differ.
+        env = VecMonitor(env)
+    return env
 
 
 def _transitions(model) -> int:
