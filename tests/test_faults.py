@@ -19,7 +19,6 @@ import signal
 import socket
 import subprocess
 import sys
-import threading
 import time
 from pathlib import Path
 
@@ -30,7 +29,7 @@ import yaml
 
 import unified_manip
 from unified_manip import checkpoints
-from unified_manip.bench import load_grid, read_results, run_grid
+from unified_manip.bench import load_grid, read_results
 from unified_manip.registry import TASKS, register_task
 from unified_manip.runlock import read_owner
 
@@ -209,30 +208,28 @@ def test_a_second_bench_on_one_output_directory_is_refused(tmp_path):
     assert row["steps"] == 600 and [t for t, _ in row["curve"]] == [200, 400, 600]
 
 
-def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path, monkeypatch):
-    import ray
-
-    grid = load_grid(_write(tmp_path / "grid.yaml", dict(GRID, steps=800)))
-    run_dir = tmp_path / "out" / "runs" / grid.runs[0].name
-    monkeypatch.setenv(checkpoints.PAUSE_ENV, "2")  # each Ray worker holds its second checkpoint
-    ray.init(num_cpus=1, include_dashboard=False, log_to_driver=False, configure_logging=False)
+def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
+    # The bench runs in its own process, as users run it: Ray's head is forked from a small
+    # CLI process, never from a test worker that has grown over the whole suite.
+    grid = _write(tmp_path / "grid.yaml", dict(GRID, steps=800))
+    out = tmp_path / "out"
+    run_dir = out / "runs" / load_grid(grid).runs[0].name
+    bench = cli("bench", str(grid), "--out", str(out), "--executor", "ray", "--workers", "1", "--retries", "1",
+                "--no-progress", pause=2, wait=False)  # each Ray worker holds its second checkpoint
     try:
-        summary = {}
-        bench = threading.Thread(target=lambda: summary.update(run_grid(grid, tmp_path / "out", executor="ray", workers=1,
-                                                                        retries=1, progress=False)))
-        bench.start()
-        wait_for(lambda: (run_dir / "checkpoints" / f"{400:012d}" / "PAUSED").exists())  # 200 is complete
+        wait_for(lambda: (run_dir / "checkpoints" / f"{400:012d}" / "PAUSED").exists(), bench)  # 200 is complete
         os.kill(read_owner(run_dir)["pid"], signal.SIGKILL)  # the Ray worker that trains the run, mid-checkpoint
         # The retry resumes from 200, writes 400, and holds 600: let it go on.
-        marker = wait_for(lambda: next(iter((run_dir / "checkpoints").glob(f"{600:012d}/PAUSED")), None))
+        marker = wait_for(lambda: next(iter((run_dir / "checkpoints").glob(f"{600:012d}/PAUSED")), None), bench)
         marker.unlink()
-        bench.join(timeout=600)
+        _, err = bench.communicate(timeout=600)
     finally:
-        ray.shutdown()
-    assert summary["finished"] == 1 and summary["failed"] == []
-    (failure,) = [json.loads(line) for line in (tmp_path / "out" / "failures.jsonl").read_text().splitlines()]
+        if bench.poll() is None:
+            bench.kill()
+    assert bench.returncode == 0, err
+    (failure,) = [json.loads(line) for line in (out / "failures.jsonl").read_text().splitlines()]
     assert failure["attempt"] == 1 and "Worker" in failure["error"], failure
-    (row,) = read_results(tmp_path / "out" / "results.csv")
+    (row,) = read_results(out / "results.csv")
     # The retry resumed: the evaluations made before the kill are kept, none repeated.
     assert row["steps"] == 800 and [t for t, _ in row["curve"]] == [200, 400, 600, 800]
 
