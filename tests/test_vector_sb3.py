@@ -130,6 +130,8 @@ def test_train_picks_and_runs_the_native_vector_env(tmp_path):
             "--n-envs", "2", "--vec", "native", "--run-dir", str(run), "--no-progress", *[a for s in sets for a in ("--set", s)]]
     proc = subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
+    # The evaluation env has the training env's layers (one VecMonitor) and no Monitor under it.
+    assert "already wrapped with a `Monitor`" not in proc.stderr, proc.stderr
     assert json.loads((run / "status.json").read_text())["state"] == "finished"
     with open(run / "monitor" / "seg0" / "native.monitor.csv") as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))

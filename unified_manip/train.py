@@ -489,21 +489,26 @@ def _train_owned(req: TrainRequest, run_dir: Path, config: dict[str, Any], param
 
 
 def _checked_env(req: TrainRequest):
-    """The evaluation env; a task that refuses the env keyword arguments is a TrainError."""
+    """The evaluation env; a task that refuses the env keyword arguments is a TrainError.
+
+    It has the training env's wrapper layers, because EvalCallback copies VecNormalize
+    statistics layer by layer and refuses chains that differ: a ``VecMonitor`` over an
+    unmonitored env when the training env is the native vector env, else ``Monitor``-ed."""
+    from .vector.factory import resolve_vec
+
+    native = resolve_vec(req.vec, req.env, req.n_envs) == "native"
     try:
-        env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+        if native:
+            import gymnasium as gym
+            from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
+
+            env = VecMonitor(DummyVecEnv([lambda: gym.make(req.env, **req.env_config())]))
+            env.seed(req.seed + 10_000)
+        else:
+            env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
     except (TypeError, ValueError) as err:  # gymnasium appends where it was raised; keep the task's words
         reason = str(err).split(" was raised from the environment creator")[0]
         raise TrainError(f"cannot make {req.env} with {req.env_config()}: {reason}") from None
-    from .vector.factory import resolve_vec
-
-    if resolve_vec(req.vec, req.env, req.n_envs) == "native":
-        from stable_baselines3.common.vec_env import VecMonitor
-
-        # The same wrapper layers as the training env (VecMonitor over the native env):
-        # EvalCallback copies VecNormalize statistics layer by layer and refuses chains
-        # that differ.
-        env = VecMonitor(env)
     return env
 
 
