@@ -25,6 +25,7 @@ import numpy as np
 #: Task ID and action mode of each compared task (the benchmark's modes).
 DEFAULT_TASKS = (
     ("UnifiedManip/Arm4Push-v0", "ee_delta"),
+    ("UnifiedManip/Arm4Push-v1", "ee_delta"),
     ("UnifiedManip/FetchPush-v0", "native"),
     ("UnifiedManip/Arm4PickAndPlace-v0", "ee_delta"),
     ("UnifiedManip/FetchPickAndPlace-v0", "native"),

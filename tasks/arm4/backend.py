@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import mujoco
@@ -10,6 +11,7 @@ import numpy as np
 
 from unified_manip.backend import Backend
 from unified_manip.config import EnvConfig
+from unified_manip.controllers import ControllerConfig
 from unified_manip.controllers.ik import MinkIK
 from unified_manip.controllers.rig import MujocoRig
 from unified_manip.physics import bad_state_warnings
@@ -17,7 +19,7 @@ from unified_manip.rendering import Renderer, SceneOptions
 
 from ..contacts import touches_both
 from .controllers import CONTROLLERS
-from .goals import sample_goal, sample_object_xy
+from .goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
 from .scene import (
     ASSET,
     CUBE_REST_Z,
@@ -77,19 +79,31 @@ class Arm4Backend(Backend):
         config: The validated env config.
         scene: ``"reach"`` (no cube), ``"push"`` or ``"pick_and_place"``: the model,
             the goal distribution and the observation layout.
+        substeps: Physics substeps of 2 ms per env step (10: 50 Hz control).
+        controllers: The action modes, ``{mode: controller config}``.
+        min_goal_distance: Push goals are at least this far from the cube at reset, m.
     """
 
     SCENES = ("reach", "push", "pick_and_place")
 
-    def __init__(self, config: EnvConfig, scene: str) -> None:
+    def __init__(
+        self,
+        config: EnvConfig,
+        scene: str,
+        substeps: int = SUBSTEPS,
+        controllers: Mapping[str, ControllerConfig] = CONTROLLERS,
+        min_goal_distance: float = PUSH_MIN_DISTANCE,
+    ) -> None:
         if scene not in self.SCENES:
             raise ValueError(f"unknown Arm4 scene {scene!r}; expected one of {', '.join(map(repr, self.SCENES))}")
         if config.options:
             raise TypeError(f"Arm4 tasks take no extra options, got {sorted(config.options)}")
         self.scene = scene
+        self.substeps = substeps
+        self.min_goal_distance = min_goal_distance
         self.model = _load_model(with_object=scene != "reach")
         self.data = mujoco.MjData(self.model)
-        self.dt = SUBSTEPS * self.model.opt.timestep
+        self.dt = substeps * self.model.opt.timestep
         self.rig = MujocoRig(
             self.model,
             self.data,
@@ -103,7 +117,7 @@ class Arm4Backend(Backend):
             ee_rotation=top_down,
         )
         self._home = _home_qpos(self.model, self.rig)
-        self.control = CONTROLLERS[config.action_mode].build(self.rig)
+        self.control = controllers[config.action_mode].build(self.rig)
         self.action_dim = self.control.action_dim
         m = self.model
         self._arm_q = self.rig.qpos_adr
@@ -139,7 +153,7 @@ class Arm4Backend(Backend):
             xy = sample_object_xy(np_random)
             d.qpos[self._obj_q : self._obj_q + 3] = (xy[0], xy[1], CUBE_REST_Z)
             d.qpos[self._obj_q + 3 : self._obj_q + 7] = (1.0, 0.0, 0.0, 0.0)
-        self._goal = sample_goal(self.scene, np_random, xy)
+        self._goal = sample_goal(self.scene, np_random, xy, self.min_goal_distance)
         m.site_pos[self._goal_site] = self._goal
         mujoco.mj_forward(m, d)
         self.control.reset()
@@ -158,7 +172,7 @@ class Arm4Backend(Backend):
         return diagnostics
 
     def physics_step(self) -> None:
-        mujoco.mj_step(self.model, self.data, nstep=SUBSTEPS)
+        mujoco.mj_step(self.model, self.data, nstep=self.substeps)
 
     def unstable(self) -> bool:
         return self._unstable

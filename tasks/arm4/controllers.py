@@ -19,3 +19,14 @@ CONTROLLERS = {
     # The design document's scheme: native is joint_delta.
     "native": ctl.JointDelta(max_delta=0.05),
 }
+
+#: The v1 tasks' action modes (Fetch's timing: 25 Hz, twice the 20 ms step): every step,
+#: position delta and target step is doubled, so each mode keeps v0's speed per second.
+CONTROLLERS_25HZ = {
+    **CONTROLLERS,
+    "joint_delta": ctl.JointDelta(max_delta=0.10),
+    "joint_target_delta": ctl.JointTargetDelta(max_delta=0.10),
+    "ee_delta": ctl.EEDelta(step=2 * EE_STEP),
+    "ee_target_delta": ctl.EETargetDelta(step=2 * EE_STEP),
+    "native": ctl.JointDelta(max_delta=0.10),
+}

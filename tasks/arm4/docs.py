@@ -4,11 +4,14 @@ from __future__ import annotations
 
 from unified_manip.controllers.docs import modes_section
 
-from .controllers import CONTROLLERS
+from .controllers import CONTROLLERS, CONTROLLERS_25HZ
 
-_MODES = f"""Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
-+1 open; native is joint_delta, the design document's scheme):
+_MODES_HEAD = """Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
++1 open; native is joint_delta, the design document's scheme):"""
+_MODES = f"""{_MODES_HEAD}
 {modes_section(CONTROLLERS)}"""
+_MODES_25HZ = f"""{_MODES_HEAD}
+{modes_section(CONTROLLERS_25HZ)}"""
 
 _TABLE_HEAD = """\
     =====  ==========================================  ==========
@@ -80,4 +83,26 @@ Goal (3,): achieved = cube centre, desired = goal point, m.
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
 success bonus 10; ``grasped`` means both fingers touch the cube.
 Version history: v0 initial.
+"""
+
+PUSH_V1_DOC = f"""Arm4Push-v1: Arm4Push with Fetch's timing and goal distribution.
+
+The same arm, cube and table as v0. Two things change, both to match FetchPush (issue 10,
+part 3b: why the arm learns more slowly than Fetch):
+- Goals: anywhere in x [0.35, 0.65], y [-0.15, 0.15] m on the table top, with no minimum
+  distance from the cube (v0: at least 10 cm), so some episodes start solved, as in Fetch
+  (about 8% here, 6.8% in FetchPush).
+- Timing: 50 steps of 40 ms (25 Hz control, 20 substeps), as Fetch; v0 has 100 steps of
+  20 ms. Each mode's step doubles (ee_delta 5 cm, joint_delta 0.1 rad), so the speed per
+  second is v0's. A discount of 0.95 then spans 0.8 s instead of 0.4 s.
+The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m. Success: the cube's centre
+is within 5 cm of the goal.
+
+Observation (34,):
+{_OBJECT_TABLE}
+Goal (3,): achieved = cube centre, desired = goal point, m.
+{_MODES_25HZ}
+Dense reward: as v0.
+Version history: v0 initial; v1 Fetch's timing (25 Hz, 50 steps) and goals (no minimum
+distance from the cube).
 """

@@ -19,13 +19,18 @@ def sample_object_xy(rng: np.random.Generator) -> np.ndarray:
     return rng.uniform(OBJECT_XY_LOW, OBJECT_XY_HIGH)
 
 
-def sample_goal(scene: str, rng: np.random.Generator, object_xy: np.ndarray | None) -> np.ndarray:
-    """The goal of the ``"reach"``, ``"push"`` or ``"pick_and_place"`` scene, drawn after the cube."""
+def sample_goal(
+    scene: str, rng: np.random.Generator, object_xy: np.ndarray | None, min_distance: float = PUSH_MIN_DISTANCE
+) -> np.ndarray:
+    """The goal of the ``"reach"``, ``"push"`` or ``"pick_and_place"`` scene, drawn after the cube.
+
+    Push goals are redrawn until farther than ``min_distance`` from the cube (0: any goal in
+    the box, so some episodes start solved, as Fetch's)."""
     if scene == "reach":
         return rng.uniform(REACH_GOAL_LOW, REACH_GOAL_HIGH)
     if scene == "push":
         while True:
             gxy = rng.uniform(PUSH_GOAL_XY_LOW, PUSH_GOAL_XY_HIGH)
-            if np.linalg.norm(gxy - object_xy) > PUSH_MIN_DISTANCE:
+            if min_distance <= 0.0 or np.linalg.norm(gxy - object_xy) > min_distance:
                 return np.array([gxy[0], gxy[1], CUBE_REST_Z])
     return rng.uniform(PLACE_GOAL_LOW, PLACE_GOAL_HIGH)

@@ -25,8 +25,13 @@ def pick_and_place_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
 PUSH_SPEED, PUSH_STEER, PUSH_LATERAL_TOL, PUSH_SLOWDOWN = 0.5, 20.0, 0.03, 10.0
 
 
-def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
-    """Go behind the cube (seen from the goal), lower the closed gripper, push."""
+def push_policy(obs: dict[str, np.ndarray], gain: float = 1.0) -> np.ndarray:
+    """Go behind the cube (seen from the goal), lower the closed gripper, push.
+
+    ``gain`` scales every action magnitude (the feedback gains in action units per metre
+    and the pushing speed): 0.5 for the v1 task, whose ``ee_delta`` step is twice v0's, keeps
+    v0's moves in metres per step. At 1 there, each step would try to cancel a whole error and
+    push twice as far, and the stiff servos' overshoot made half of the pushes miss."""
     o = obs["observation"]
     grip = o[OBS_GRIP]
     obj = o[OBS_CUBE]
@@ -43,9 +48,9 @@ def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
         # Steer back onto the line through the cube and the goal while pushing, and
         # slow down near the goal.
         correction = (obj[:2] - along * direction) - grip[:2]
-        speed = min(PUSH_SPEED, PUSH_SLOWDOWN * remaining)
-        steer = np.clip(correction * PUSH_STEER, -0.3, 0.3)
-        move = np.append(direction * speed + steer, (push_z - grip[2]) * 20.0)
+        speed = gain * min(PUSH_SPEED, PUSH_SLOWDOWN * remaining)
+        steer = np.clip(correction * PUSH_STEER * gain, -0.3, 0.3)
+        move = np.append(direction * speed + steer, (push_z - grip[2]) * 20.0 * gain)
         return np.append(np.clip(move, -1, 1), -1.0).astype(np.float32)
     behind = np.append(obj[:2] - direction * 0.07, push_z)
     if np.linalg.norm(grip[:2] - behind[:2]) > 0.015:
@@ -53,5 +58,10 @@ def push_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
             return np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)
         above = behind.copy()
         above[2] = obj[2] + 0.07
-        return np.append(toward(above - grip, 20.0), -1.0).astype(np.float32)
-    return np.append(toward(behind - grip, 20.0), -1.0).astype(np.float32)
+        return np.append(toward(above - grip, 20.0 * gain), -1.0).astype(np.float32)
+    return np.append(toward(behind - grip, 20.0 * gain), -1.0).astype(np.float32)
+
+
+def push_policy_25hz(obs: dict[str, np.ndarray]) -> np.ndarray:
+    """:func:`push_policy` for the v1 push task's doubled ``ee_delta`` step."""
+    return push_policy(obs, gain=0.5)

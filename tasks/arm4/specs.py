@@ -6,13 +6,13 @@ from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
 from ..scripted import EEDeltaPolicy
-from .controllers import CONTROLLERS
-from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC
-from .policies import pick_and_place_policy, push_policy, reach_policy
+from .controllers import CONTROLLERS, CONTROLLERS_25HZ
+from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
+from .policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
 
 _BACKEND = "unified_manip.tasks.arm4.backend:Arm4Backend"
 
-SPECS: tuple[TaskSpec, ...] = tuple(
+V0: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="arm4",
@@ -33,3 +33,22 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         ("Arm4PickAndPlace", "pick_and_place", "grasp", 100, PICK_AND_PLACE_DOC, pick_and_place_policy),
     )
 )
+
+#: Arm4Push with Fetch's timing and goal distribution (issue 10, part 3b).
+PUSH_V1 = TaskSpec(
+    name="Arm4Push",
+    version=1,
+    family="arm4",
+    shaping="push",
+    make_backend=lazy(_BACKEND, scene="push", substeps=20, controllers=CONTROLLERS_25HZ, min_goal_distance=0.0),
+    controllers=CONTROLLERS_25HZ,
+    goal_dim=3,
+    max_episode_steps=50,
+    distance_threshold=0.05,
+    doc=PUSH_V1_DOC,
+    scripted_policy=EEDeltaPolicy("Arm4", push_policy_25hz),
+    scripted_min_success=0.9,
+    render_fps=25,
+)
+
+SPECS: tuple[TaskSpec, ...] = (*V0, PUSH_V1)
