@@ -37,6 +37,8 @@ def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
         assert r["after"]["fds"] == r["before"]["fds"], r
         assert r["after"]["gl_contexts"] == r["before"]["gl_contexts"] == 0, r
     assert "| robosuite | 3 |" in proc.stdout
+    # Progress bars go to stderr, one per part, and end at their totals.
+    assert "soak make/close cycles: 100%" in proc.stderr and "12/12" in proc.stderr, proc.stderr
 
 
 def test_soak_bad_input_is_one_line_exit_2():

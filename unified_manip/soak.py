@@ -72,12 +72,21 @@ def _make(task: str, mode: str | None = None, **kwargs):
     return gym.make(task, action_mode=mode, **kwargs)
 
 
+def _bar(total: int, desc: str, progress: bool, unit_scale: bool = False):
+    """A progress bar on stderr (steps are counted in chunks, so it costs nothing measurable)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit_scale=unit_scale, disable=not progress, dynamic_ncols=True, mininterval=1.0)
+
+
 # ---------------------------------------------------------------------- parts
-def soak_steps(steps: int, seed: int = 0) -> list[dict[str, Any]]:
+def soak_steps(steps: int, seed: int = 0, progress: bool = False) -> list[dict[str, Any]]:
     import unified_manip
 
     rows = []
-    for mode in unified_manip.TASKS[STEP_TASK].action_modes:
+    modes = unified_manip.TASKS[STEP_TASK].action_modes
+    bar = _bar(steps * len(modes), "soak steps", progress, unit_scale=True)
+    for mode in modes:
         env = _make(STEP_TASK, mode)
         rng = np.random.default_rng(seed)
         env.reset(seed=seed)
@@ -94,17 +103,22 @@ def soak_steps(steps: int, seed: int = 0) -> list[dict[str, Any]]:
                 episodes += 1
             if start_rss is not None and t % 20_000 == 0:
                 peak = max(peak, rss_mb() - start_rss)
+            if t >= warmup and (t - warmup) % 1000 == 999:
+                bar.update(1000)
         growth = rss_mb() - start_rss
         env.close()
+        bar.update(steps % 1000)
         rows.append({"part": "steps", "task": STEP_TASK, "mode": mode, "count": steps, "episodes": episodes,
                      "steps_per_s": steps / (time.perf_counter() - start), "rss_start_mb": start_rss,
                      "rss_growth_mb": growth, "rss_peak_growth_mb": max(peak, growth), "sim_unstable": unstable,
                      "ok": growth < RSS_LIMIT_MB and unstable == 0})
+    bar.close()
     return rows
 
 
-def soak_frames(frames: int, size: int = 128, seed: int = 0) -> list[dict[str, Any]]:
+def soak_frames(frames: int, size: int = 128, seed: int = 0, progress: bool = False) -> list[dict[str, Any]]:
     rows = []
+    bar = _bar(frames * len(FRAME_TASKS), "soak frames", progress)
     for task in FRAME_TASKS:
         env = _make(task, render_mode="rgb_array", render_width=size, render_height=size)
         rng = np.random.default_rng(seed)
@@ -117,6 +131,7 @@ def soak_frames(frames: int, size: int = 128, seed: int = 0) -> list[dict[str, A
             _, _, terminated, truncated, _ = env.step(rng.uniform(-1, 1, env.action_space.shape).astype(np.float32))
             frame = env.render()
             assert frame.shape == (size, size, 3)
+            bar.update(t >= warmup)
             if terminated or truncated:
                 env.reset()
         growth = rss_mb() - start_rss
@@ -127,10 +142,11 @@ def soak_frames(frames: int, size: int = 128, seed: int = 0) -> list[dict[str, A
     return rows
 
 
-def soak_cycles(cycles: int, warmup: int = 2) -> list[dict[str, Any]]:
+def soak_cycles(cycles: int, warmup: int = 2, progress: bool = False) -> list[dict[str, Any]]:
     import unified_manip
 
     rows = []
+    bar = _bar(cycles * len(CYCLE_TASKS), "soak make/close cycles", progress)
     for task in CYCLE_TASKS:
         def cycle(i: int) -> None:
             env = _make(task, render_mode="rgb_array", render_width=64, render_height=64)
@@ -144,11 +160,13 @@ def soak_cycles(cycles: int, warmup: int = 2) -> list[dict[str, Any]]:
         start = time.perf_counter()
         for i in range(cycles):
             cycle(warmup + i)
+            bar.update(1)
         seconds = time.perf_counter() - start
         after = {"fds": open_fds(), "threads": threads(), "gl_contexts": gl_contexts(), "rss_mb": rss_mb()}
         rows.append({"part": "cycles", "task": task, "family": unified_manip.TASKS[task].family, "count": cycles,
                      "cycles_per_s": cycles / seconds, "before": before, "after": after,
                      "ok": after["fds"] <= before["fds"] and after["gl_contexts"] <= before["gl_contexts"]})
+    bar.close()
     return rows
 
 
@@ -199,6 +217,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cycles", type=_positive, default=1_000, help="make/close cycles per family")
     parser.add_argument("--parts", default="steps,frames,cycles", help="comma-separated: steps, frames, cycles")
     parser.add_argument("--json", help="also write every figure to this JSON file")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bars (on stderr)")
     args = parser.parse_args(argv)
     parts = [p.strip() for p in args.parts.split(",") if p.strip()]
     unknown = [p for p in parts if p not in ("steps", "frames", "cycles")]
@@ -214,7 +233,7 @@ def main(argv: list[str] | None = None) -> int:
                             ("cycles", soak_cycles, args.cycles)):
         if part not in parts:
             continue
-        new = run(size)
+        new = run(size, progress=not args.no_progress)
         rows += new
         print(tables(new) + "\n", flush=True)  # each part as soon as it is done: a long run keeps what it measured
         if args.json:
