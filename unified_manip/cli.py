@@ -14,7 +14,7 @@ from rich.table import Table
 
 from .config import REWARD_TYPES
 from .devices import DEVICES
-from .registry import TASKS
+from .registry import TASKS, get_task
 from .vector.factory import VEC_KINDS
 
 
@@ -29,11 +29,11 @@ def _task_ids(value: str | None) -> list[str] | None:
     if value is None:
         return None
     ids = [v.strip() for v in value.split(",") if v.strip()]
-    unknown = [v for v in ids if v not in TASKS]
-    if unknown:
-        raise argparse.ArgumentTypeError(
-            f"unknown task {unknown[0]!r}; expected one of {', '.join(TASKS)}"
-        )
+    for v in ids:
+        try:
+            get_task(v)  # the registry's error
+        except ValueError as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
     return ids
 
 
@@ -258,7 +258,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--algo", required=True, choices=list(ALGOS))
     p.add_argument("--steps", type=_positive_int, required=True, help="total environment steps")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--n-envs", type=_positive_int, default=1, help="parallel envs (see --vec)")
+    p.add_argument("--n-envs", type=_positive_int, help="parallel envs (see --vec; default: the hyperparameter file's n_envs, else 1)")
     p.add_argument("--vec", choices=VEC_KINDS, default="auto",
                    help="how the envs are stepped: native (the native vector env, on threads), dummy, subproc, or auto: "
                         "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more")
