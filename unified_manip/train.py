@@ -29,7 +29,7 @@ from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as 
 
 __all__ = [
     "CONFIG", "STATUS", "EvalResult", "RunDirectoryError", "TrainError", "TrainRequest", "evaluate", "make_vec_env",
-    "read_config", "read_status", "train", "write_atomic", "write_status", "write_video", "_model_kwargs", "_normalized",
+    "read_config", "read_status", "train", "write_atomic", "write_status", "write_video",
 ]
 
 
