@@ -132,10 +132,12 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
         ({"budget": 10}, "unknown grid key(s) 'budget'; expected tasks, action_modes, reward_types, algos, seeds, steps, name, description, eval_freq, n_eval_episodes, overrides, n_envs"),
         ({"tasks": ["UnifiedManip/Nope-v0"]}, "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0"),
         ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her, crossq_her"),
-        ({"reward_types": ["shaped"]}, "unknown reward type 'shaped'; expected one of sparse, dense, dense_penalized"),
+        ({"reward_types": ["shaped"]}, "unknown reward_type 'shaped'; expected one of 'sparse', 'dense', 'dense_penalized'"),
         ({"steps": 0}, "steps must be a positive integer, got 0"),
         ({"seeds": []}, "grid key 'seeds' must be a non-empty list of int, got []"),
-        ({"action_modes": ["teleport"]}, "action mode 'teleport' is not supported by UnifiedManip/Arm4Reach-v0; expected one of"),
+        ({"action_modes": ["teleport"]}, "unknown action_mode 'teleport'; expected one of 'joint_torque', "),
+        ({"tasks": ["UnifiedManip/HandReach-v0"], "action_modes": ["ee_delta"]},
+         "action_mode 'ee_delta' is not supported by UnifiedManip/HandReach-v0; expected one of 'joint_delta', "),
         ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
     ],
 )
@@ -150,6 +152,13 @@ def test_malformed_grids_give_exact_errors(tmp_path, change, message):
     with pytest.raises(GridError) as err:
         load_grid(path)
     assert str(err.value).startswith(f"{path}: {message}")
+
+
+def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
+    """None reaches train, which takes the file's n_envs (else 1); a grid's own wins."""
+    assert {r.n_envs for r in load_grid(write_grid(tmp_path, TINY)).runs} == {None}
+    grid = load_grid(write_grid(tmp_path, {**TINY, "n_envs": {"sac_her": 3}}))
+    assert {r.n_envs for r in grid.runs} == {3}
 
 
 def test_committed_grids_are_valid():

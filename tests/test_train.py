@@ -234,8 +234,9 @@ def test_unsupported_mode_for_task_names_the_valid_modes(tmp_path):
     proc = cli("train", "--env", hand, "--action-mode", "ee_delta", "--algo", "sac", "--steps", "10",
                "--run-dir", str(tmp_path / "r"), check=False)
     assert proc.returncode == 2
-    expected = ", ".join(unified_manip.TASKS[hand].action_modes)
-    assert proc.stderr.strip().endswith(f"action mode 'ee_delta' is not supported by {hand}; expected one of {expected}")
+    expected = ", ".join(repr(m) for m in unified_manip.TASKS[hand].action_modes)
+    # The env's own words (EnvConfig.require_supported), as gym.make says them.
+    assert proc.stderr.strip().endswith(f"action_mode 'ee_delta' is not supported by {hand}; expected one of {expected}")
 
 
 def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
@@ -270,3 +271,63 @@ def test_rl_zoo3_trains_a_unified_manip_id(tmp_path):
     assert (run / "UnifiedManip-FetchReach-v0.zip").is_file()
     config = (run / "UnifiedManip-FetchReach-v0" / "args.yml").read_text()
     assert "action_mode" in config and "native" in config
+
+
+# ---------------------------------------------------------------------- reward terms, n_envs
+def _tiny_request(run_dir: Path, **kwargs):
+    from unified_manip.train import TrainRequest
+
+    settings = ("learning_starts=50", "batch_size=32", "eval_freq=150", "n_eval_episodes=1", "checkpoint_freq=1000")
+    base = dict(env="UnifiedManip/Arm4Reach-v0", action_mode="ee_delta", reward_type="sparse", algo="sac", steps=300,
+                run_dir=run_dir, overrides=settings)
+    return TrainRequest(**{**base, **kwargs})
+
+
+def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    from unified_manip.rewards import make_reward_spec
+    from unified_manip.train import train
+
+    run_dir = tmp_path / "run"
+    train(_tiny_request(run_dir, reward_type="dense_penalized"), progress=False, log=lambda msg: None)
+    scalars: dict[str, dict[int, float]] = {}  # tag -> {step: value}
+    for events in (run_dir / "tb").rglob("events.out.tfevents.*"):
+        acc = EventAccumulator(str(events))
+        acc.Reload()
+        for tag in acc.Tags()["scalars"]:
+            scalars.setdefault(tag, {}).update({e.step: e.value for e in acc.Scalars(tag)})
+    spec = make_reward_spec("dense_penalized", unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"].shaping)
+    for term in spec.terms:
+        scaled, raw = scalars[f"reward_terms/{term.name}"], scalars[f"reward_terms_raw/{term.name}"]
+        assert scaled.keys() == raw.keys() and len(scaled) >= 1
+        for step in scaled:
+            assert raw[step] * term.scale == pytest.approx(scaled[step], rel=1e-5, abs=1e-6)
+    # Logged together, the episode totals of the scaled terms add up to SB3's episode return.
+    common = set(scalars["rollout/ep_rew_mean"]).intersection(*(scalars[f"reward_terms/{t.name}"] for t in spec.terms))
+    assert common
+    for step in common:
+        total = sum(scalars[f"reward_terms/{t.name}"][step] for t in spec.terms)
+        assert total == pytest.approx(scalars["rollout/ep_rew_mean"][step], rel=1e-4, abs=1e-4)
+
+
+def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path, monkeypatch):
+    from unified_manip import hyperparams
+    from unified_manip.train import train
+
+    task = "UnifiedManip/Arm4Reach-v0"
+    doc = yaml.safe_load((Path(hyperparams.DEFAULT_DIR) / "sac.yaml").read_text())
+    doc[task] = {**(doc.get(task) or {}), "n_envs": 2}
+    (tmp_path / "hp").mkdir()
+    (tmp_path / "hp" / "sac.yaml").write_text(yaml.safe_dump(doc))
+    monkeypatch.setattr(hyperparams, "DEFAULT_DIR", tmp_path / "hp")
+    quiet = dict(progress=False, log=lambda msg: None)
+    for run, n_envs, expected in (("file", None, 2), ("cli", 1, 1)):
+        train(_tiny_request(tmp_path / run, steps=100, n_envs=n_envs), **quiet)
+        config = yaml.safe_load((tmp_path / run / "config.yaml").read_text())
+        assert config["n_envs"] == expected and "n_envs" not in config["hyperparameters"]
+        assert sum(1 for _ in (tmp_path / run / "monitor" / "seg0").glob("*.csv")) in (1, expected)
+    # The run resolves the same n_envs again: it is recognised as finished, not refused.
+    assert train(_tiny_request(tmp_path / "file", steps=100), **quiet)["state"] == "finished"
+    with pytest.raises(hyperparams.HyperparameterError, match="n_envs must be at least 1, got 0"):
+        hyperparams.resolve("sac", task, ("n_envs=0",))

@@ -10,9 +10,20 @@ env from the validated :class:`~unified_manip.config.EnvConfig`.
 from __future__ import annotations
 
 import abc
-from typing import Any
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any, Iterator
 
 import numpy as np
+
+
+@dataclass
+class PhysicsTimer:
+    """Wall-clock seconds spent in :meth:`Backend.physics_step` while a
+    :meth:`Backend.timing_physics` block is open (set ``seconds`` to 0 to start over)."""
+
+    seconds: float = 0.0
 
 
 class Backend(abc.ABC):
@@ -86,3 +97,26 @@ class Backend(abc.ABC):
 
     def close(self) -> None:
         """Release simulator and renderer resources."""
+
+    @contextmanager
+    def timing_physics(self) -> Iterator[PhysicsTimer]:
+        """Time every :meth:`physics_step` inside the ``with`` block (the timing hook of
+        ``unified-manip speed``: env step rate against the raw physics limit).
+
+        A mode that steps the physics inside upstream code (e.g. Fetch's native mocap
+        control) never calls ``physics_step``: its timer stays at 0.
+        """
+        timer = PhysicsTimer()
+        physics = self.physics_step
+        clock = time.perf_counter
+
+        def timed_physics() -> None:
+            start = clock()
+            physics()
+            timer.seconds += clock() - start
+
+        self.physics_step = timed_physics  # instance attribute shadows the method
+        try:
+            yield timer
+        finally:
+            del self.physics_step

@@ -28,7 +28,7 @@ from pathlib import Path
 
 def _model(task: str, buffer_size: int, steps: int):
     from .hyperparams import get_algo, resolve
-    from .train import _model_kwargs, _normalized, make_vec_env
+    from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
 
     params = resolve("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
     params.pop("device", None)

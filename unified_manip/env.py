@@ -163,6 +163,12 @@ class UnifiedManipEnv(GoalEnv):
     def close(self) -> None:
         self._backend.close()
 
+    def timing_physics(self):
+        """A context manager that times the simulator's physics alone, as a
+        :class:`~unified_manip.backend.PhysicsTimer` (``unified-manip speed``'s hook;
+        see :meth:`~unified_manip.backend.Backend.timing_physics`)."""
+        return self._backend.timing_physics()
+
     # ------------------------------------------------------------------ GoalEnv API
     def compute_reward(self, achieved_goal, desired_goal, info):
         """Reward for goals of shape ``(g,)`` or ``(B, g)``; equals ``step()``'s reward.

@@ -30,6 +30,7 @@ RUN_KEYS: dict[str, type] = {
     "action_noise_std": float,  # TD3: std of Gaussian exploration noise, in action units
     "normalize": bool,  # running mean/std observation normalisation (VecNormalize), as the zoo's normalize
     "device": str,  # auto | cpu | cuda; --device overrides it (where a run executes, not compared on resume)
+    "n_envs": int,  # parallel envs, at least 1; train --n-envs and a grid's n_envs override it
 }
 
 
@@ -181,6 +182,8 @@ def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), direc
             )
     for item in overrides:
         apply_override(params, item, keys)
+    if "n_envs" in params and params["n_envs"] < 1:
+        raise HyperparameterError(f"{algo.name}.yaml: n_envs must be at least 1, got {params['n_envs']!r}")
     return params
 
 

@@ -80,7 +80,7 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from .hyperparams import get_algo, resolve
-    from .train import _model_kwargs, _normalized
+    from .vecenvs import model_kwargs as _model_kwargs, normalized as _normalized
 
     algo = get_algo(lever.algo)
     params = resolve(lever.algo, task_id, lever.overrides + (f"learning_starts={warmup}", "buffer_size=100000"))

@@ -114,6 +114,15 @@ class TaskSpec:
     def id(self) -> str:
         return f"{NAMESPACE}/{self.name}-v{self.version}"
 
+    def check_choices(self, action_mode: str, reward_type: str) -> EnvConfig:
+        """The :class:`EnvConfig` of ``action_mode`` and ``reward_type``, checked as
+        ``gym.make`` checks them: ``ValueError`` with the env's own words for an unknown
+        mode or reward type, or a mode this task does not support. ``train``, ``bench``
+        and the CLI reuse these errors rather than checking again."""
+        config = EnvConfig(action_mode=action_mode, reward_type=reward_type)
+        config.require_supported(self.id, self.action_modes)
+        return config
+
 
 #: Every registered task, by ID, in registration order.
 TASKS: dict[str, TaskSpec] = {}

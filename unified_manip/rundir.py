@@ -1,15 +1,34 @@
-"""A run directory's own state: who owns it, what run it holds, how far it got.
+"""The run-directory protocol: what a run directory holds and how it is written.
+
+A run directory holds everything about one run::
+
+    config.yaml          resolved hyperparameters, env kwargs, package versions, command
+    status.json          {"state": "running" | "finished", "num_timesteps": N, ...}
+    monitor/segK/        Monitor CSVs (with is_success) of the K-th start or resume
+    tb/                  TensorBoard events
+    eval/evaluations.npz periodic evaluation (EvalCallback): returns and successes
+    best/best_model.zip  the best evaluated model
+    checkpoints/<step>/  the last two resumable checkpoints (model + replay buffer + obs
+                         statistics + manifest; see :mod:`unified_manip.checkpoints`)
+    .lock                held by the process that owns the run (:mod:`unified_manip.runlock`)
+    final_model.zip      written when the run finishes
+    replay_buffer.pkl    off-policy algorithms, written when the run finishes
+    vecnormalize.pkl     observation statistics of runs with ``normalize: true`` (final;
+                         ``best/vecnormalize.pkl`` belongs to the best model)
 
 ``config.yaml`` says what run a directory holds (a different run is refused),
 ``status.json`` how far it got, and ``.lock`` who works in it now (one process at a
-time, :mod:`unified_manip.runlock`). The rest (checkpoints, logs, models) belongs to
-training; :func:`clear_outputs` removes it for ``--restart``.
+time). The rest (checkpoints, logs, models) belongs to training; :func:`clear_outputs`
+removes it for ``--restart``. Every file is written to a temporary name and renamed,
+so a kill never leaves a half-written file that is later read as whole.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import platform
+import shlex
 import shutil
 import time
 from contextlib import contextmanager
@@ -25,8 +44,44 @@ OUTPUTS = ("checkpoints", "monitor", "eval", "best", "tb", "final_model.zip", "r
            STATUS)
 
 
+#: The config.yaml keys that must match for a directory to hold the same run (the
+#: device is where a run executes, not what it is: a run resumes on another).
+COMPARED = ("env", "env_kwargs", "algo", "steps", "seed", "n_envs", "hyperparameters")
+
+
 class RunDirectoryError(ValueError):
     """A run directory that cannot be used for this run (one-line error, exit 2)."""
+
+
+def package_versions() -> dict[str, str]:
+    from importlib.metadata import version
+
+    names = ("unified_manip", "mujoco", "gymnasium", "gymnasium-robotics", "robosuite", "stable-baselines3", "sb3-contrib", "torch", "numpy", "mink")
+    out = {"python": platform.python_version()}
+    for n in names:
+        try:
+            out[n] = version(n)
+        except Exception:  # pragma: no cover - reported, not fatal
+            out[n] = "not installed"
+    return out
+
+
+def config_document(req: Any, n_envs: int, params: dict[str, Any], argv: list[str] | None, device: str) -> dict[str, Any]:
+    """The config.yaml of the run ``req`` (a :class:`~unified_manip.request.TrainRequest`)
+    with ``n_envs`` training envs."""
+    return {
+        "env": req.env,
+        "env_kwargs": req.env_config(),
+        "algo": req.algo,
+        "steps": req.steps,
+        "seed": req.seed,
+        "n_envs": n_envs,
+        "device": device,  # where it started; a resume may run elsewhere (not compared)
+        "hyperparameters": params,
+        "overrides": list(req.overrides),
+        "versions": package_versions(),
+        "command": shlex.join(argv) if argv else None,
+    }
 
 
 def write_atomic(path: Path, text: str) -> None:
@@ -102,3 +157,68 @@ def owned(run_dir: Path, wait_s: float = 0.0) -> Iterator[Path]:
         raise
     finally:
         lock.release()
+
+
+def write_final(run_dir: Path, model, off_policy: bool) -> None:
+    """The finished run's files: model, replay buffer (off-policy) and observation
+    statistics (normalize runs), each written atomically."""
+    tmp = run_dir / "final_model.tmp.zip"
+    model.save(tmp)
+    os.replace(tmp, run_dir / "final_model.zip")
+    if off_policy:
+        tmp = run_dir / "replay_buffer.tmp.pkl"
+        model.save_replay_buffer(tmp)
+        os.replace(tmp, run_dir / "replay_buffer.pkl")
+    if model.get_vec_normalize_env() is not None:
+        from .vecenvs import save_stats
+
+        save_stats(model, run_dir / "vecnormalize.pkl")
+
+
+def containing(target: Path) -> Path:
+    """The run directory ``target`` (a run directory or a file inside one) belongs to."""
+    target = Path(target)
+    if not target.exists():
+        raise RunDirectoryError(f"{target} does not exist; expected a run directory or a model .zip inside one")
+    run_dir = target if target.is_dir() else target.parent
+    while run_dir != run_dir.parent and not (run_dir / CONFIG).is_file():
+        run_dir = run_dir.parent
+    if not (run_dir / CONFIG).is_file():
+        raise RunDirectoryError(f"{target} is not inside a unified-manip run directory (no {CONFIG} found)")
+    return run_dir
+
+
+def model_to_evaluate(target: Path, run_dir: Path) -> Path:
+    """``target`` if it is a model .zip, else the run's best, final or newest checkpoint model."""
+    from . import checkpoints
+
+    if target.is_file():
+        if not target.suffix == ".zip":
+            raise RunDirectoryError(f"{target} is not a model; expected a run directory or a model .zip inside one")
+        return target
+    candidates = [run_dir / "best" / "best_model.zip", run_dir / "final_model.zip"]
+    ckpt = checkpoints.newest(run_dir)
+    if ckpt:
+        candidates.append(ckpt.path(checkpoints.MODEL))
+    model_path = next((p for p in candidates if p.is_file()), None)
+    if model_path is None:
+        raise RunDirectoryError(f"{run_dir} has no model yet (no best, final or checkpoint model)")
+    return model_path
+
+
+def stats_for(model_path: Path, run_dir: Path) -> Path:
+    """The VecNormalize statistics saved together with ``model_path``."""
+    from . import checkpoints
+
+    model_path = Path(model_path)
+    if model_path.parent.parent.name == checkpoints.CHECKPOINTS:
+        candidate = model_path.parent / checkpoints.VECNORMALIZE
+    elif model_path.parent.name == checkpoints.CHECKPOINTS:  # the legacy layout
+        candidate = model_path.parent / model_path.name.replace("model_", "vecnormalize_").replace(".zip", ".pkl")
+    elif model_path.parent.name == "best":
+        candidate = model_path.parent / "vecnormalize.pkl"
+    else:
+        candidate = run_dir / "vecnormalize.pkl"
+    if not candidate.is_file():
+        raise RunDirectoryError(f"{model_path} was trained with normalize: true but {candidate} is missing")
+    return candidate

@@ -45,40 +45,30 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
     """Step rate of the env and of its physics alone, over the same ``steps`` steps."""
     env = gym.make(task_id, action_mode=action_mode, disable_env_checker=True)
     env.reset(seed=seed)
-    backend = env.unwrapped._backend
     rng = np.random.default_rng(seed)
     actions = rng.uniform(-1, 1, size=(steps + 50,) + env.action_space.shape).astype(np.float32)
-
-    physics = backend.physics_step
     clock = time.perf_counter
-    spent = [0.0]
-
-    def timed_physics() -> None:
-        start = clock()
-        physics()
-        spent[0] += clock() - start
-
-    backend.physics_step = timed_physics  # instance attribute shadows the method
     try:
-        for a in actions[:50]:  # warm-up: lazy allocations, caches
-            env.step(a)
-        env.reset(seed=seed)
-        spent[0] = 0.0
-        resets = 0.0
-        start = clock()
-        for a in actions[50:]:
-            _, _, terminated, truncated, _ = env.step(a)
-            if terminated or truncated:
-                t = clock()
-                env.reset()
-                resets += clock() - t
-        total = clock() - start - resets
+        with env.unwrapped.timing_physics() as physics:
+            for a in actions[:50]:  # warm-up: lazy allocations, caches
+                env.step(a)
+            env.reset(seed=seed)
+            physics.seconds = 0.0
+            resets = 0.0
+            start = clock()
+            for a in actions[50:]:
+                _, _, terminated, truncated, _ = env.step(a)
+                if terminated or truncated:
+                    t = clock()
+                    env.reset()
+                    resets += clock() - t
+            total = clock() - start - resets
     finally:
-        del backend.physics_step
         env.close()
+    spent = physics.seconds
     # A mode that steps the physics inside upstream code (e.g. Fetch's native mocap
     # control) never calls physics_step: its raw rate is unknown here (see upstream table).
-    return SpeedResult(task_id, action_mode, steps / total, steps / spent[0] if spent[0] > 0 else float("nan"))
+    return SpeedResult(task_id, action_mode, steps / total, steps / spent if spent > 0 else float("nan"))
 
 
 def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:

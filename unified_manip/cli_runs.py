@@ -1,0 +1,168 @@
+"""The experiment subcommands of ``unified-manip``: ``train``, ``eval``, ``bench`` and
+``report``, each with its arguments beside it."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import signal
+import sys
+from pathlib import Path
+
+from .cliargs import env_kwarg, positive_int
+from .config import ACTION_MODES, REWARD_TYPES
+from .devices import DEVICES
+from .hyperparams import ALGOS
+from .registry import TASKS
+from .vector.factory import VEC_KINDS
+
+
+def add_commands(sub) -> None:
+    """Add ``train``, ``eval``, ``bench`` and ``report`` to the subparsers ``sub``."""
+    p = sub.add_parser("train", help="train a Stable-Baselines3 baseline on one task")
+    p.add_argument("--env", required=True, choices=list(TASKS), metavar="ID", help="registered task ID")
+    p.add_argument("--action-mode", default="native", choices=ACTION_MODES)
+    p.add_argument("--reward-type", default="sparse", choices=REWARD_TYPES)
+    p.add_argument("--algo", required=True, choices=list(ALGOS))
+    p.add_argument("--steps", type=positive_int, required=True, help="total environment steps")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--n-envs", type=positive_int, help="parallel envs (see --vec; default: the hyperparameter file's n_envs, else 1)")
+    p.add_argument("--vec", choices=VEC_KINDS, default="auto",
+                   help="how the envs are stepped: native (the native vector env, on threads), dummy, subproc, or auto: "
+                        "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more")
+    p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
+    p.add_argument("--env-kwarg", action="append", type=env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--device", choices=DEVICES, help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto")
+    p.add_argument("--restart", action="store_true", help="start the run over from step 0 (discards its checkpoints, logs and models)")
+    p.set_defaults(func=cmd_train)
+
+    p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
+    p.add_argument("target", help="run directory, or a model .zip inside one")
+    p.add_argument("--episodes", type=positive_int, default=50)
+    p.add_argument("--action-mode", choices=ACTION_MODES, help="default: the run's own (a different one is an error)")
+    p.add_argument("--reward-type", choices=REWARD_TYPES, help="default: the run's own")
+    p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
+    p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
+    p.add_argument("--json", help="also write the result to this JSON file")
+    p.add_argument("--device", choices=DEVICES, default="auto", help="auto (CUDA when torch sees a GPU), cpu or cuda")
+    p.set_defaults(func=cmd_eval)
+
+    p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
+    p.add_argument("grid", help="grid YAML file, e.g. baselines/grids/action_spaces.yaml")
+    p.add_argument("--out", help="bench directory (default: baselines/results/<grid name>)")
+    p.add_argument("--executor", choices=("local", "ray"), default="local")
+    p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
+    p.add_argument("--workers", type=positive_int, help="runs at a time (default: CPU cores)")
+    p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
+    p.add_argument("--device", choices=DEVICES, help="device of every run: auto, cpu or cuda (default: each hyperparameter file's device key, else auto)")
+    p.add_argument("--only", action="append", metavar="KEY=VALUE",
+                   help="train only the runs matching this (task, action_mode, reward_type, algo or seed; repeatable: "
+                        "values of one key are alternatives, keys must all match); results keep every finished run")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("report", help="Markdown + PNG report from a bench's results.csv")
+    p.add_argument("results", help="results.csv written by unified-manip bench")
+    p.add_argument("--out", help="output directory (default: <results dir>/report)")
+    p.add_argument("--claims", help="YAML of claimed results to set beside the measured ones")
+    p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
+    p.set_defaults(func=cmd_report)
+
+
+def cmd_train(args: argparse.Namespace) -> int:
+    from .train import TrainRequest, train
+
+    req = TrainRequest(
+        env=args.env,
+        action_mode=args.action_mode,
+        reward_type=args.reward_type,
+        algo=args.algo,
+        steps=args.steps,
+        seed=args.seed,
+        n_envs=args.n_envs,
+        vec=args.vec,
+        run_dir=Path(args.run_dir) if args.run_dir else None,
+        overrides=tuple(args.set or ()),
+        env_kwargs=dict(args.env_kwarg or ()),
+        device=args.device,
+        restart=args.restart,
+    )
+    try:
+        train(req, argv=["unified-manip", *sys.argv[1:]], progress=not args.no_progress)
+    except KeyboardInterrupt:
+        return 130
+    return 0
+
+
+def cmd_eval(args: argparse.Namespace) -> int:
+    from .train import evaluate
+
+    result = evaluate(
+        Path(args.target),
+        args.episodes,
+        action_mode=args.action_mode,
+        reward_type=args.reward_type,
+        seed=args.seed,
+        video=Path(args.video) if args.video else None,
+        device=args.device,
+    )
+    print(
+        f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
+        f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
+    )
+    if args.json:
+        Path(args.json).write_text(json.dumps(result.as_dict(), indent=2))
+    if args.video:
+        print(f"wrote {args.video}")
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from .bench import load_grid, run_grid
+
+    grid = load_grid(Path(args.grid))
+    out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
+    # Ctrl-C stops the bench cleanly even when it was started with SIGINT ignored.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        summary = run_grid(
+            grid,
+            out,
+            executor=args.executor,
+            workers=args.workers,
+            address=args.address,
+            retries=args.retries,
+            progress=not args.no_progress,
+            command=shlex.join(["unified-manip", *sys.argv[1:]]),
+            device=args.device,
+            select=tuple(args.only or ()),
+        )
+    except KeyboardInterrupt:
+        # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
+        print(f"bench interrupted; run the same command again to resume (finished runs are kept in {out})")
+        return 130
+    print(
+        f"{summary['finished']}/{summary['runs']} runs finished, {len(summary['failed'])} failed; "
+        f"results in {summary['results']}"
+    )
+    for name in summary["failed"]:
+        print(f"failed: {name} (see failures.jsonl)")
+    return 0 if not summary["failed"] else 1
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from .report import build_report
+    from .yamlfile import load_mapping
+
+    results = Path(args.results)
+    if not results.is_file():
+        raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    claims = load_mapping(Path(args.claims), "a mapping of claim labels") if args.claims else None
+    out = Path(args.out) if args.out else results.parent / "report"
+    path = build_report(results, out, command=shlex.join(["unified-manip", *sys.argv[1:]]),
+                        dense_check=not args.no_dense_check, claims=claims)
+    print(f"wrote {path}")
+    return 0

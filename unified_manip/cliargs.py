@@ -1,0 +1,48 @@
+"""Argument types and the parser class shared by the ``unified-manip`` subcommands."""
+
+from __future__ import annotations
+
+import argparse
+
+from .registry import get_task
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, but errors are one line naming the valid choices, exit code 2."""
+
+    def error(self, message: str) -> None:  # noqa: D102
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def task_ids(value: str | None) -> list[str] | None:
+    if value is None:
+        return None
+    ids = [v.strip() for v in value.split(",") if v.strip()]
+    for v in ids:
+        try:
+            get_task(v)  # the registry's error
+        except ValueError as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+    return ids
+
+
+def positive_int(value: str) -> int:
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value!r}") from None
+    if n <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value!r}")
+    return n
+
+
+def env_kwarg(value: str) -> tuple[str, object]:
+    import yaml
+
+    if "=" not in value:
+        raise argparse.ArgumentTypeError(f"expected key=value, got {value!r}")
+    key, raw = value.split("=", 1)
+    try:
+        return key, yaml.safe_load(raw)
+    except yaml.YAMLError:
+        raise argparse.ArgumentTypeError(f"{value!r}: {raw!r} is not a YAML literal") from None

@@ -1,0 +1,195 @@
+"""Grid files: which runs a bench trains (``baselines/grids/*.yaml``), fully validated
+before any run starts. The file format is described in :mod:`unified_manip.bench`."""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .config import validate_reward_type
+from .hyperparams import ALGOS, resolve
+from .registry import TASKS, get_task
+from .yamlfile import YamlFileError, load_mapping
+
+REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
+OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets")
+ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
+
+
+class GridError(ValueError):
+    """A grid file is malformed (reported before any run starts)."""
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    task: str
+    action_mode: str
+    reward_type: str
+    algo: str
+    seed: int
+    steps: int
+    overrides: tuple[str, ...]
+    n_envs: int | None = None  # None: the hyperparameter file's n_envs, else 1
+
+    @property
+    def name(self) -> str:
+        return f"{self.task.split('/')[-1]}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+
+
+@dataclass(frozen=True)
+class Grid:
+    name: str
+    runs: tuple[RunSpec, ...]
+    source: dict[str, Any]
+
+
+def _list(path: Path, doc: dict, key: str, kind: type) -> list:
+    value = doc[key]
+    if not isinstance(value, list) or not value or not all(isinstance(v, kind) and not isinstance(v, bool) for v in value):
+        raise GridError(f"{path}: grid key {key!r} must be a non-empty list of {kind.__name__}, got {value!r}")
+    return value
+
+
+def load_grid(path: Path) -> Grid:
+    """Read and fully validate a grid file; raise :class:`GridError` on any problem."""
+    path = Path(path)
+    if not path.is_file():
+        raise GridError(f"grid file {path} not found")
+    try:
+        doc = load_mapping(path, f"a mapping with keys {', '.join(REQUIRED)}")
+    except YamlFileError as err:
+        raise GridError(str(err)) from None
+    missing = [k for k in REQUIRED if k not in doc]
+    if missing:
+        raise GridError(f"{path}: missing grid key(s) {', '.join(missing)}; required: {', '.join(REQUIRED)}")
+    unknown = [k for k in doc if k not in REQUIRED + OPTIONAL]
+    if unknown:
+        raise GridError(
+            f"{path}: unknown grid key(s) {', '.join(map(repr, unknown))}; expected {', '.join(REQUIRED + OPTIONAL)}"
+        )
+    name = doc.get("name", path.stem)
+    if not _plain_name(name):
+        raise GridError(
+            f"{path}: name {name!r} must be a plain directory name (no '/', '\\', '..' or absolute path): "
+            "the bench writes to baselines/results/<name>"
+        )
+    tasks = _list(path, doc, "tasks", str)
+    _check(path, get_task, tasks)  # the registry's and EnvConfig's own checks and words
+    rewards = _list(path, doc, "reward_types", str)
+    _check(path, validate_reward_type, rewards)
+    algos = _list(path, doc, "algos", str)
+    for a in algos:
+        if a not in ALGOS:
+            raise GridError(f"{path}: unknown algorithm {a!r}; expected one of {', '.join(ALGOS)}")
+    seeds = _list(path, doc, "seeds", int)
+    steps = _per_key(path, "steps", doc["steps"], tasks, "tasks")
+    modes_value = doc["action_modes"]
+    if modes_value != "all":
+        modes = _list(path, doc, "action_modes", str)
+        try:
+            for t, m in itertools.product(tasks, modes):
+                TASKS[t].check_choices(m, rewards[0])
+        except ValueError as err:
+            raise GridError(f"{path}: {err} (or action_modes: all)") from None
+    overrides = doc.get("overrides") or {}
+    if not isinstance(overrides, dict) or any(a not in algos or not isinstance(v, list) for a, v in overrides.items()):
+        raise GridError(f"{path}: overrides must map algorithms of the grid to lists of key=value strings")
+    run_settings = []
+    for key in ("eval_freq", "n_eval_episodes"):
+        if key in doc:
+            if not isinstance(doc[key], int) or doc[key] <= 0:
+                raise GridError(f"{path}: {key} must be a positive integer, got {doc[key]!r}")
+            run_settings.append(f"{key}={doc[key]}")
+    # Not given: each run takes its hyperparameter file's n_envs (else 1).
+    n_envs = _per_key(path, "n_envs", doc["n_envs"], algos, "algorithms") if "n_envs" in doc else dict.fromkeys(algos)
+    from .benchmark import TargetError, parse_targets
+
+    try:  # the report marks each target met or missed
+        parse_targets(doc.get("targets"), str(path))
+    except TargetError as err:
+        raise GridError(str(err)) from None
+    only = doc.get("only")
+    if only is not None:
+        if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
+            raise GridError(f"{path}: only must be a non-empty list of mappings with keys from {', '.join(ONLY_KEYS)}")
+        for entry in only:
+            bad = [k for k in entry if k not in ONLY_KEYS]
+            if bad:
+                raise GridError(f"{path}: unknown key {bad[0]!r} in only; expected {', '.join(ONLY_KEYS)}")
+    runs = []
+    for t, r, a, s in itertools.product(tasks, rewards, algos, seeds):
+        for m in TASKS[t].action_modes if modes_value == "all" else modes:
+            combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
+            if only is not None and not any(all(combo[k] == v for k, v in e.items()) for e in only):
+                continue
+            sets = tuple(run_settings + list(overrides.get(a, [])))
+            try:  # every hyperparameter override is checked before anything starts
+                resolve(a, t, sets)
+            except ValueError as err:
+                raise GridError(f"{path}: {err}") from None
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a]))
+    if not runs:
+        raise GridError(f"{path}: the grid selects no runs")
+    return Grid(name, tuple(runs), doc)
+
+
+def _check(path: Path, check, values: list) -> None:
+    try:
+        for value in values:
+            check(value)
+    except ValueError as err:
+        raise GridError(f"{path}: {err}") from None
+
+
+def _plain_name(name: object) -> bool:
+    """A name that stays one directory below where it is joined (no separators, no '..')."""
+    return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
+
+
+SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed")
+
+
+def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:
+    """Names of the runs matching every ``key=value`` of ``select`` (None: no selection).
+
+    ``unified-manip bench --only algo=ppo`` trains just those runs now; results.csv still
+    holds every finished run of the grid, so a grid can be run in the order a study needs.
+    """
+    if not select:
+        return None
+    wanted: dict[str, set[str]] = {}
+    for item in select:
+        key, sep, value = item.partition("=")
+        if not sep or key not in SELECT_KEYS or not value:
+            raise GridError(f"malformed --only {item!r}; expected KEY=VALUE with KEY one of {', '.join(SELECT_KEYS)}")
+        wanted.setdefault(key, set()).add(value)
+    names = {r.name for r in grid.runs if all(str(getattr(r, k)) in v for k, v in wanted.items())}
+    if not names:
+        raise GridError(f"--only {' '.join(select)} selects none of the grid's {len(grid.runs)} runs")
+    return names
+
+
+def _per_key(path: Path, name: str, value: Any, keys: list[str], what: str) -> dict[str, int]:
+    """A positive integer for every key: one for all, or a mapping of keys (and ``default``).
+
+    ``steps`` is keyed by task ID, ``n_envs`` by algorithm (PPO with parallel envs beside
+    single-env SAC in one grid)."""
+    def positive(v: Any) -> bool:
+        return isinstance(v, int) and not isinstance(v, bool) and v > 0
+
+    if positive(value):
+        return {k: value for k in keys}
+    if not isinstance(value, dict):
+        raise GridError(f"{path}: {name} must be a positive integer, got {value!r} (or a mapping of the grid's {what} to one)")
+    unknown = [k for k in value if k != "default" and k not in keys]
+    if unknown:
+        raise GridError(f"{path}: {name} names {unknown[0]!r}, which is not one of the grid's {what} (or 'default')")
+    bad = [k for k, v in value.items() if not positive(v)]
+    if bad:
+        raise GridError(f"{path}: {name} for {bad[0]!r} must be a positive integer, got {value[bad[0]]!r}")
+    missing = [k for k in keys if k not in value and "default" not in value]
+    if missing:
+        raise GridError(f"{path}: {name} gives no value for {missing[0]!r}; add it or a 'default'")
+    return {k: value.get(k, value.get("default")) for k in keys}

@@ -1,0 +1,93 @@
+"""What ``unified-manip train`` is asked to do (:class:`TrainRequest`), validated, and
+the error every training or evaluation request fails with (:class:`TrainError`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .devices import DEVICES
+from .hyperparams import ALGOS
+from .registry import get_task
+
+
+class TrainError(ValueError):
+    """Invalid training or evaluation request (reported as a one-line error, exit 2)."""
+
+
+@dataclass(frozen=True)
+class TrainRequest:
+    """What ``unified-manip train`` was asked to do.
+
+    Attributes:
+        env: Registered task ID.
+        action_mode: One of the task's action modes.
+        reward_type: ``sparse``, ``dense`` or ``dense_penalized``.
+        algo: ``ppo``, ``sac``, ``td3``, ``sac_her`` or ``tqc_her``.
+        steps: Total environment steps (over all envs).
+        seed: Seed of the model and of the envs (env k gets ``seed + k``).
+        n_envs: Parallel envs, stepped as ``vec`` says; ``None`` takes the hyperparameter
+            file's ``n_envs`` key, and 1 where that has none.
+        run_dir: Where the run lives.
+        overrides: ``key=value`` hyperparameter overrides.
+        env_kwargs: Extra env keyword arguments (e.g. ``robot``).
+        device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
+            ``device`` key, and ``auto`` where that has none.
+        vec: How the envs are stepped: ``native`` (the native vector env, through
+            :class:`~unified_manip.vector.sb3.NativeSB3VecEnv`), ``dummy`` (SB3's
+            ``DummyVecEnv``), ``subproc`` (``SubprocVecEnv``), or ``auto``: native where
+            the ID has a native vector env and ``n_envs > 1``, else dummy for one env
+            and subproc for more.
+        restart: Start the run over from step 0, discarding its checkpoints, logs and
+            models (same run: the settings must match its ``config.yaml``).
+    """
+
+    env: str
+    action_mode: str
+    reward_type: str
+    algo: str
+    steps: int
+    seed: int = 0
+    n_envs: int | None = None
+    run_dir: Path | None = None
+    overrides: tuple[str, ...] = ()
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    device: str | None = None
+    vec: str = "auto"
+    restart: bool = False
+
+    def __post_init__(self) -> None:
+        try:  # the env's own checks and words (unknown ID, mode or reward type, unsupported mode)
+            get_task(self.env).check_choices(self.action_mode, self.reward_type)
+        except ValueError as err:
+            raise TrainError(str(err)) from None
+        if self.algo not in ALGOS:
+            raise TrainError(f"unknown algorithm {self.algo!r}; expected one of {', '.join(ALGOS)}")
+        if self.device is not None and self.device not in DEVICES:
+            raise TrainError(f"unknown device {self.device!r}; expected one of {', '.join(DEVICES)}")
+        for name in ("steps", "n_envs"):
+            value = getattr(self, name)
+            if value is not None and value <= 0:
+                raise TrainError(f"--{name.replace('_', '-')} must be positive, got {value}")
+        from .vector.factory import resolve_vec
+
+        try:
+            resolve_vec(self.vec, self.env, self.n_envs or 1)
+        except ValueError as err:
+            raise TrainError(str(err)) from None
+        if self.run_dir is not None and ".." in Path(self.run_dir).parts:
+            raise TrainError(
+                f"--run-dir {str(self.run_dir)!r} climbs out of its directory with '..'; "
+                "expected a path without '..' (relative, or absolute)"
+            )
+
+    @property
+    def directory(self) -> Path:
+        if self.run_dir is not None:
+            return Path(self.run_dir)
+        name = self.env.split("/")[-1]
+        return Path("runs") / f"{name}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+
+    def env_config(self) -> dict[str, Any]:
+        return {"action_mode": self.action_mode, "reward_type": self.reward_type, **self.env_kwargs}

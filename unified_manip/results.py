@@ -1,0 +1,90 @@
+"""A bench's ``results.csv``: one row per finished run, written atomically after every
+run, and read back typed (for ``unified-manip report``)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from .rundir import CONFIG, read_status
+
+RESULT_COLUMNS = (
+    "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",
+    "curve", "wall_time_s", "steps_per_s", "versions",
+)
+
+
+class ResultsError(ValueError):
+    """A ``results.csv`` that is not a bench's (one-line error)."""
+
+
+def collect_row(run_dir: Path) -> dict[str, Any] | None:
+    """The results row of a finished run, or ``None`` if it is not finished."""
+    run_dir = Path(run_dir)
+    status = read_status(run_dir)
+    if not status or status.get("state") != "finished" or not (run_dir / "final_model.zip").is_file():
+        return None
+    config = yaml.safe_load((run_dir / CONFIG).read_text())
+    evaluations = np.load(run_dir / "eval" / "evaluations.npz")
+    steps = evaluations["timesteps"].tolist()
+    success = evaluations["successes"].mean(axis=1).tolist() if "successes" in evaluations else [float("nan")] * len(steps)
+    wall = float(status.get("wall_time_s", float("nan")))
+    return {
+        "run": run_dir.name,
+        "task": config["env"],
+        "action_mode": config["env_kwargs"]["action_mode"],
+        "reward_type": config["env_kwargs"]["reward_type"],
+        "algo": config["algo"],
+        "seed": config["seed"],
+        "steps": config["steps"],
+        "final_success_rate": success[-1] if success else float("nan"),
+        "curve": json.dumps([[int(t), float(s)] for t, s in zip(steps, success)]),
+        "wall_time_s": wall,
+        "steps_per_s": status["num_timesteps"] / wall if wall and wall == wall else float("nan"),
+        "versions": json.dumps(config["versions"], sort_keys=True),
+    }
+
+
+def write_results(out_dir: Path, rows: list[dict[str, Any]]) -> Path:
+    """Write ``results.csv`` (one row per finished run) atomically."""
+    path = Path(out_dir) / "results.csv"
+    tmp = path.with_name("results.csv.tmp")
+    with tmp.open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=RESULT_COLUMNS)
+        writer.writeheader()
+        for row in sorted(rows, key=lambda r: r["run"]):
+            writer.writerow({k: row[k] for k in RESULT_COLUMNS})
+    os.replace(tmp, path)
+    return path
+
+
+def read_results(path: Path) -> list[dict[str, Any]]:
+    """The rows of a bench's ``results.csv``, typed.
+
+    Raises:
+        ResultsError: the file lacks the bench's columns or holds a value of the wrong
+            type (the message names the file and line).
+    """
+    with Path(path).open(newline="") as f:
+        reader = csv.DictReader(f)
+        missing = [c for c in RESULT_COLUMNS if c not in (reader.fieldnames or ())]
+        if missing:
+            raise ResultsError(f"{path}: not a bench's results.csv; missing column(s) {', '.join(missing)}")
+        rows = list(reader)
+    for line, r in enumerate(rows, start=2):
+        try:
+            r["seed"] = int(r["seed"])
+            r["steps"] = int(r["steps"])
+            for k in ("final_success_rate", "wall_time_s", "steps_per_s"):
+                r[k] = float(r[k])
+            r["curve"] = json.loads(r["curve"])
+            r["versions"] = json.loads(r["versions"])
+        except (TypeError, ValueError) as err:
+            raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
+    return rows

@@ -1,0 +1,107 @@
+"""The envs and model arguments of a training run: monitored vector envs (training and
+evaluation), observation normalisation, and the algorithm's keyword arguments."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .hyperparams import RUN_KEYS, get_algo
+from .request import TrainError, TrainRequest
+
+
+def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
+                 vec: str = "auto"):
+    """Monitored envs (``is_success`` logged), stepped as ``vec`` says: the native vector
+    env (one ``VecMonitor``), or a ``DummyVecEnv`` / ``SubprocVecEnv`` of ``Monitor``-ed
+    envs (see :func:`unified_manip.vector.factory.resolve_vec` for ``auto``)."""
+    from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+
+    from .vector.factory import resolve_vec
+
+    kind = resolve_vec(vec, env_id, n_envs)
+    if kind == "native":
+        from .vector.sb3 import make_monitored
+
+        return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
+
+    return sb3_make_vec_env(
+        f"unified_manip:{env_id}",  # workers import unified_manip, which registers the IDs
+        n_envs=n_envs,
+        seed=seed,
+        env_kwargs=env_kwargs,
+        monitor_dir=str(monitor_dir) if monitor_dir else None,
+        # sim_unstable: whether the episode ended because the physics diverged.
+        monitor_kwargs={"info_keywords": ("is_success", "sim_unstable")},
+        vec_env_cls=SubprocVecEnv if kind == "subproc" else DummyVecEnv,
+    )
+
+
+def eval_env(req: TrainRequest, n_envs: int):
+    """The evaluation env of a run with ``n_envs`` training envs; a task that refuses the
+    env keyword arguments is a TrainError.
+
+    It has the training env's wrapper layers, because EvalCallback copies VecNormalize
+    statistics layer by layer and refuses chains that differ: a ``VecMonitor`` over an
+    unmonitored env when the training env is the native vector env, else ``Monitor``-ed."""
+    from .vector.factory import resolve_vec
+
+    native = resolve_vec(req.vec, req.env, n_envs) == "native"
+    try:
+        if native:
+            import gymnasium as gym
+            from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
+
+            env = VecMonitor(DummyVecEnv([lambda: gym.make(req.env, **req.env_config())]))
+            env.seed(req.seed + 10_000)
+        else:
+            env = make_vec_env(req.env, req.env_config(), 1, req.seed + 10_000, None)
+    except (TypeError, ValueError) as err:  # gymnasium appends where it was raised; keep the task's words
+        reason = str(err).split(" was raised from the environment creator")[0]
+        raise TrainError(f"cannot make {req.env} with {req.env_config()}: {reason}") from None
+    return env
+
+
+def model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> dict[str, Any]:
+    """The algorithm's keyword arguments: ``params`` less the run's own keys, plus the
+    HER replay buffer and TD3's action noise."""
+    algo = get_algo(algo_name)
+    kwargs = {k: v for k, v in params.items() if k not in RUN_KEYS}
+    if algo.her:
+        kwargs["replay_buffer_class"] = algo.buffer_cls()
+    if "action_noise_std" in params:
+        from stable_baselines3.common.noise import NormalActionNoise
+
+        std = float(params["action_noise_std"])
+        kwargs["action_noise"] = NormalActionNoise(np.zeros(action_dim), std * np.ones(action_dim))
+    return kwargs
+
+
+def normalized(venv, params: dict[str, Any], stats: Path | None, training: bool):
+    """Wrap ``venv`` in VecNormalize when the run normalises observations.
+
+    Rewards are left as the task defines them (HER recomputes them from goals); with
+    ``stats`` the saved running statistics are loaded, otherwise they start fresh.
+    """
+    if not params.get("normalize"):
+        return venv
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    if stats is not None:
+        venv = VecNormalize.load(str(stats), venv)
+    else:
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=float(params.get("gamma", 0.99)))
+    venv.training = training
+    venv.norm_reward = False
+    return venv
+
+
+def save_stats(model, path: Path) -> None:
+    """Save the VecNormalize statistics of ``model``'s env atomically."""
+    tmp = path.with_name(path.stem + ".tmp.pkl")
+    model.get_vec_normalize_env().save(str(tmp))
+    os.replace(tmp, path)
