@@ -10,6 +10,7 @@ from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
 from .config import EnvConfig
+from .controllers.actions import checked_actions
 from .registry import get_task
 from .rewards import info_arrays, reward_spec_for
 
@@ -215,15 +216,12 @@ class UnifiedManipEnv(GoalEnv):
 
     # ------------------------------------------------------------------ helpers
     def _validate_action(self, action) -> np.ndarray:
-        a = np.asarray(action, dtype=np.float64)
-        if a.shape != self._action_shape:
-            raise ValueError(
-                f"action must have shape {self._action_shape} for {self.task.id} "
-                f"with action_mode={self.config.action_mode!r}, got shape {a.shape}"
-            )
-        if not np.isfinite(a).all():
-            raise ValueError(f"action must be finite, got {a.tolist()} (NaN or inf)")
-        return np.minimum(np.maximum(a, -1.0), 1.0)  # faster than np.clip on tiny arrays
+        return checked_actions(
+            action,
+            self._action_shape,
+            f"action must have shape {self._action_shape} for {self.task.id} "
+            f"with action_mode={self.config.action_mode!r}",
+        )
 
     def _observation_dict(self) -> dict[str, np.ndarray]:
         b = self._backend

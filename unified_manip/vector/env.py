@@ -19,6 +19,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..config import EnvConfig
+from ..controllers.actions import checked_actions
 from ..registry import get_task
 from ..rewards import INFO_KEYS, info_arrays, reward_spec_for
 from . import infos as vinfo
@@ -229,17 +230,12 @@ class NativeVectorEnv(VectorEnv):
 
     # ------------------------------------------------------------------ helpers
     def _validate(self, actions) -> np.ndarray:
-        a = np.asarray(actions, dtype=np.float64)
-        if a.shape != self._action_shape:
-            raise ValueError(
-                f"actions must have shape {self._action_shape} (one row per env) for {self.task.id} with "
-                f"num_envs={self.num_envs}, action_mode={self.config.action_mode!r}; got shape {a.shape}"
-            )
-        finite = np.isfinite(a).all(axis=1)
-        if not finite.all():
-            i = int(np.flatnonzero(~finite)[0])
-            raise ValueError(f"action of env {i} must be finite, got {a[i].tolist()} (NaN or inf)")
-        return np.minimum(np.maximum(a, -1.0), 1.0)
+        return checked_actions(
+            actions,
+            self._action_shape,
+            f"actions must have shape {self._action_shape} (one row per env) for {self.task.id} with "
+            f"num_envs={self.num_envs}, action_mode={self.config.action_mode!r}",
+        )
 
     def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
         """The backend's observations where ``mask``, the last ones elsewhere."""

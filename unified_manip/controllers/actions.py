@@ -1,0 +1,26 @@
+"""The Box(-1, 1) action contract every mode shares: shape, finiteness, clipping.
+
+One check for the single env and the native vector env (one row per env), so both
+reject the same actions with the same words.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def checked_actions(actions, shape: tuple[int, ...], expected: str) -> np.ndarray:
+    """``actions`` as float64 clipped to [-1, 1].
+
+    ``expected`` is the sentence a wrong shape reports (``"action must have shape
+    (4,) for ..."``); a non-finite action names its env when ``shape`` is batched.
+    """
+    a = np.asarray(actions, dtype=np.float64)
+    if a.shape != shape:
+        raise ValueError(f"{expected}, got shape {a.shape}")
+    if not np.isfinite(a).all():
+        rows = np.atleast_2d(a)
+        i = int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0])
+        which = "action" if a.ndim == 1 else f"action of env {i}"
+        raise ValueError(f"{which} must be finite, got {rows[i].tolist()} (NaN or inf)")
+    return np.minimum(np.maximum(a, -1.0), 1.0)  # faster than np.clip on tiny arrays
