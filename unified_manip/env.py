@@ -91,6 +91,9 @@ class UnifiedManipEnv(GoalEnv):
             }
         )
         self._action_shape = (n,)
+        self._action_rule = (
+            f"action must have shape {(n,)} for {self.task.id} with action_mode={self.config.action_mode!r}"
+        )
         self._last_obs = obs
         self._was_grasped = 0.0
 
@@ -216,12 +219,7 @@ class UnifiedManipEnv(GoalEnv):
 
     # ------------------------------------------------------------------ helpers
     def _validate_action(self, action) -> np.ndarray:
-        return checked_actions(
-            action,
-            self._action_shape,
-            f"action must have shape {self._action_shape} for {self.task.id} "
-            f"with action_mode={self.config.action_mode!r}",
-        )
+        return checked_actions(action, self._action_shape, self._action_rule)
 
     def _observation_dict(self) -> dict[str, np.ndarray]:
         b = self._backend

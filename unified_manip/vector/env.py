@@ -77,6 +77,10 @@ class NativeVectorEnv(VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, n)
         self.action_space = batch_space(self.single_action_space, n)
         self._action_shape = (n, batched.action_dim)
+        self._action_rule = (
+            f"actions must have shape {self._action_shape} (one row per env) for {self.task.id} with "
+            f"num_envs={n}, action_mode={config.action_mode!r}"
+        )
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._last_obs = obs
         self._was_grasped = np.zeros(n)
@@ -230,12 +234,7 @@ class NativeVectorEnv(VectorEnv):
 
     # ------------------------------------------------------------------ helpers
     def _validate(self, actions) -> np.ndarray:
-        return checked_actions(
-            actions,
-            self._action_shape,
-            f"actions must have shape {self._action_shape} (one row per env) for {self.task.id} with "
-            f"num_envs={self.num_envs}, action_mode={self.config.action_mode!r}",
-        )
+        return checked_actions(actions, self._action_shape, self._action_rule)
 
     def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
         """The backend's observations where ``mask``, the last ones elsewhere."""
