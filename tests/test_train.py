@@ -246,9 +246,12 @@ def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
         assert "dict(" not in text and "lambda " not in text and "!!python" not in text
         params = resolve(algo, "UnifiedManip/Arm4PickAndPlace-v0")
         assert params["policy"] == "MultiInputPolicy"
-    # The anchor shares the large-network entry between Fetch and arm object tasks.
+    # The anchor shares the CPU recipe (8 envs, net [256]*3) between Fetch and arm object tasks.
     assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0") == resolve("tqc_her", "UnifiedManip/FetchPush-v0")
-    assert resolve("tqc_her", "UnifiedManip/FetchPush-v0")["policy_kwargs"] == {"net_arch": [512, 512, 512], "n_critics": 2}
+    recipe = resolve("tqc_her", "UnifiedManip/FetchPush-v0")
+    assert recipe["policy_kwargs"] == {"net_arch": [256, 256, 256], "n_critics": 2}
+    assert (recipe["n_envs"], recipe["gradient_steps"], recipe["batch_size"]) == (8, 2, 512)
+    assert "n_envs" not in resolve("tqc_her", "UnifiedManip/FetchReach-v0")
     with pytest.raises(HyperparameterError, match="buffer_size must be int, got float"):
         resolve("sac", "UnifiedManip/Arm4Reach-v0", ("buffer_size=1.5",))
     assert resolve("sac", "UnifiedManip/Arm4Reach-v0", ("learning_rate=3e-4",))["learning_rate"] == 3e-4
