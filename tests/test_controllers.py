@@ -104,6 +104,19 @@ def test_every_mode_is_documented_from_its_config():
             assert config.describe().replace("`", "")[:40] in " ".join(spec.doc.split()), (spec.id, mode)
 
 
+def test_mode_table_shows_every_tasks_config():
+    """Each task's config of each mode has a row naming its family (a variant whose
+    config differs, like Arm4Push-v1's doubled steps, by its own ID)."""
+    rows = readme_table().splitlines()
+    for spec in unified_manip.TASKS.values():
+        for mode, config in spec.controllers.items():
+            assert any(
+                row.startswith(f"| `{mode}` |") and row.endswith(f"| {config.describe()} |") and spec.family in row
+                for row in rows
+            ), (spec.id, mode)
+    assert any("arm4 (Arm4Push-v1)" in row and "0.1 rad" in row for row in rows)
+
+
 def test_readme_mode_table_is_the_generated_one():
     text = (ROOT / "README.md").read_text()
     start, end = text.index(README_START), text.index(README_END) + len(README_END)

@@ -28,21 +28,35 @@ def modes_section(controllers: Mapping[str, ControllerConfig], width: int = 88) 
     return "\n".join(lines)
 
 
+def _labelled_controllers(tasks) -> list[tuple[str, Mapping[str, ControllerConfig], Mapping | None]]:
+    """``(label, controllers, family's)``: each family's first task's controllers under
+    the family's name (``family's`` None), then every task whose controllers differ from
+    those under ``"family (Name-vN)"`` (e.g. Arm4Push-v1's doubled steps)."""
+    first: dict[str, Mapping[str, ControllerConfig]] = {}
+    labelled: list[tuple[str, Mapping[str, ControllerConfig], Mapping | None]] = []
+    for spec in tasks.values():
+        if spec.family not in first:
+            first[spec.family] = spec.controllers
+            labelled.append((spec.family, spec.controllers, None))
+        elif spec.controllers != first[spec.family]:
+            labelled.append((f"{spec.family} ({spec.id.split('/', 1)[1]})", spec.controllers, first[spec.family]))
+    return labelled
+
+
 def readme_table(tasks=None) -> str:
-    """Markdown: one row per mode and distinct config, naming the families that use it."""
+    """Markdown: one row per mode and distinct config, naming the families (and the
+    tasks whose config of that mode differs from their family's) that use it."""
     from ..config import ACTION_MODES
 
     if tasks is None:
         from ..registry import TASKS as tasks
-    families: dict[str, Mapping[str, ControllerConfig]] = {}
-    for spec in tasks.values():
-        families.setdefault(spec.family, spec.controllers)
+    labelled = _labelled_controllers(tasks)
     rows = ["| mode | families | the action (`a` in [-1, 1] per joint or axis) |", "|---|---|---|"]
     for mode in ACTION_MODES:
         by_config: dict[ControllerConfig, list[str]] = {}
-        for family, controllers in families.items():
-            if mode in controllers:
-                by_config.setdefault(controllers[mode], []).append(family)
+        for label, controllers, family in labelled:
+            if mode in controllers and (family is None or family.get(mode) != controllers[mode]):
+                by_config.setdefault(controllers[mode], []).append(label)
         for config, names in by_config.items():
             rows.append(f"| `{mode}` | {', '.join(names)} | {config.describe()} |")
     return "\n".join([README_START, *rows, README_END])
