@@ -11,7 +11,6 @@ from __future__ import annotations
 import gc
 import pickle
 import threading
-import warnings
 import weakref
 
 import gymnasium as gym
