@@ -120,11 +120,16 @@ def copy_of(run_dir: Path, tmp_path: Path) -> Path:
 
 def test_kill_9_mid_checkpoint_resumes_from_the_last_complete_one(killed_in_third_checkpoint, tmp_path):
     run_dir = copy_of(killed_in_third_checkpoint, tmp_path)
+    # The status kept the wall time up to the last checkpoint (it used to keep 0 until an
+    # interrupt or the end, so a run killed at a session's end lost that segment's time).
+    killed = json.loads((run_dir / "status.json").read_text())
+    assert killed["state"] == "running" and killed["num_timesteps"] == 400 and killed["wall_time_s"] > 0, killed
     proc = cli(*train_args(run_dir, 800))
     assert proc.returncode == 0, proc.stderr
     assert f"{run_dir}: resuming from step 400 of 800 on cpu with 400 transitions in the replay buffer" in proc.stdout
     assert "warning" not in proc.stdout  # the half-written one was never published
-    assert json.loads((run_dir / "status.json").read_text())["num_timesteps"] == 800
+    final = json.loads((run_dir / "status.json").read_text())
+    assert final["num_timesteps"] == 800 and final["wall_time_s"] > killed["wall_time_s"]
 
 
 @pytest.mark.parametrize("damaged", [checkpoints.MODEL, checkpoints.REPLAY_BUFFER])

@@ -6,12 +6,13 @@ from __future__ import annotations
 
 from collections import deque
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
 
 from . import checkpoints
+from .rundir import write_status
 
 
 class SuccessRate(BaseCallback):
@@ -41,13 +42,17 @@ class Checkpoint(BaseCallback):
 
     It saves at the end of a rollout, where the replay buffer holds every transition
     counted in ``num_timesteps`` (during ``on_step`` the last one is not stored yet).
+    After each checkpoint the status records the step and ``elapsed()``, the run's wall
+    time so far, so a run killed outright (kill -9, the end of a session) resumes with
+    the time it had spent up to its checkpoint rather than from 0.
     """
 
-    def __init__(self, freq: int, run_dir: Path, off_policy: bool):
+    def __init__(self, freq: int, run_dir: Path, off_policy: bool, elapsed: Callable[[], float]):
         super().__init__()
         self.freq = max(int(freq), 1)
         self.run_dir = run_dir
         self.off_policy = off_policy
+        self.elapsed = elapsed
         self.last = 0
 
     def _on_training_start(self) -> None:
@@ -59,6 +64,7 @@ class Checkpoint(BaseCallback):
     def _on_rollout_end(self) -> None:
         if self.num_timesteps - self.last >= self.freq:
             checkpoints.write(self.model, self.run_dir, self.off_policy)
+            write_status(self.run_dir, state="running", num_timesteps=int(self.num_timesteps), wall_time_s=self.elapsed())
             self.last = self.num_timesteps
 
 
@@ -175,8 +181,10 @@ def resume_evaluations(evaluation: EvalCallback, path: Path, upto: int) -> None:
 
 
 def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, off_policy: bool, progress: bool,
-                   scales: Mapping[str, float], resumed_at: int = 0, n_envs: int = 1) -> CallbackList:
-    """The callbacks of a run that trains to ``total`` env steps.
+                   scales: Mapping[str, float], elapsed: Callable[[], float], resumed_at: int = 0,
+                   n_envs: int = 1) -> CallbackList:
+    """The callbacks of a run that trains to ``total`` env steps; ``elapsed()`` is the
+    run's wall time so far (all segments), recorded at each checkpoint.
 
     ``n_envs`` is the number of *training* envs: EvalCallback counts calls of the
     training env's step, each ``n_envs`` env steps, so ``eval_freq`` (env steps) is
@@ -197,7 +205,7 @@ def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, 
     return CallbackList([
         RewardTerms(scales),
         SuccessRate(off_policy),
-        Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy),
+        Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy, elapsed),
         evaluation,
         Progress(total, progress),
     ])

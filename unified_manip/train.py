@@ -143,6 +143,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
         callbacks = make_callbacks(req.steps, run_dir, params, eval_env, algo.off_policy, progress, _reward_scales(req),
+                                   elapsed=lambda: elapsed_before + time.time() - started,
                                    resumed_at=int(model.num_timesteps), n_envs=n_envs)
         # Ctrl-C and kill both end in a checkpoint. SIGINT is set explicitly: a process
         # started in the background (or by a parent that ignores it) inherits SIG_IGN.
