@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
@@ -34,20 +36,16 @@ V0: tuple[TaskSpec, ...] = tuple(
     )
 )
 
-#: Arm4Push with Fetch's timing and goal distribution (issue 10, part 3b).
-PUSH_V1 = TaskSpec(
-    name="Arm4Push",
+#: Arm4Push with Fetch's timing and goal distribution (issue 10, part 3b): v0's push task
+#: with only these fields changed.
+PUSH_V1 = replace(
+    V0[1],
     version=1,
-    family="arm4",
-    shaping="push",
     make_backend=lazy(_BACKEND, scene="push", substeps=20, controllers=CONTROLLERS_25HZ, min_goal_distance=0.0),
     controllers=CONTROLLERS_25HZ,
-    goal_dim=3,
     max_episode_steps=50,
-    distance_threshold=0.05,
     doc=PUSH_V1_DOC,
     scripted_policy=EEDeltaPolicy("Arm4", push_policy_25hz),
-    scripted_min_success=0.9,
     render_fps=25,
 )
 
