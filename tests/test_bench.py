@@ -16,6 +16,7 @@ import yaml
 
 from unified_manip.bench import GridError, load_grid, read_results, run_grid, write_results
 from unified_manip.report import build_report
+from unified_manip.training_curves import read_scalars
 from unified_manip.rewards import RewardSpec, Term
 from unified_manip.sanity import dense_reward_check
 
@@ -122,6 +123,27 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
     for r in rows:  # finished runs were skipped, not run again
         if r["run"] in finished_before:
             assert r["wall_time_s"] == finished_before[r["run"]]
+    # The report draws every run's training episodes from its logs, the resumed run's too.
+    text = build_report(out / "results.csv", tmp_path / "report", dense_check=False).read_text()
+    assert "## Training episodes" in text and (tmp_path / "report" / "Arm4Reach-v0_training.png").is_file()
+    for r in rows:
+        steps, success = read_scalars(out / "runs" / r["run"])["rollout/success_rate"]
+        assert steps[-1] == 200 and (np.diff(steps) > 0).all() and ((success >= 0) & (success <= 1)).all()
+
+
+def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeats(tmp_path):
+    from torch.utils.tensorboard import SummaryWriter
+
+    for points in ([(100, 0.1), (200, 0.2), (300, 0.3)], [(250, 0.5), (350, 0.6)]):  # killed after 300, resumed at 200
+        writer = SummaryWriter(str(tmp_path / "tb" / "tb_0"))
+        for step, value in points:
+            writer.add_scalar("rollout/success_rate", value, step)
+        writer.close()
+        time.sleep(1.1)  # event files are ordered by the start time in their names (whole seconds)
+    steps, values = read_scalars(tmp_path)["rollout/success_rate"]
+    assert steps.tolist() == [100, 200, 250, 350]
+    assert np.allclose(values, [0.1, 0.2, 0.5, 0.6])
+    assert "rollout/ep_rew_mean" not in read_scalars(tmp_path)  # a tag never logged is absent
 
 
 # ---------------------------------------------------------------------- grid errors

@@ -175,6 +175,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     for task, groups in by_task.items():
         fig = plot_task(task, groups, out, {t.action_mode: t.success for t in targets if t.task == task})
         lines += [f"![{task}]({fig.name})", ""]
+    lines += _training_section(by_task, bench_dir / "runs", out)
 
     if any(len({m for _, m, _ in g}) > 1 for g in by_task.values()):
         lines += ["## Ranking of action modes", ""]
@@ -229,6 +230,20 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def _training_section(by_task: dict, runs_dir: Path, out: Path) -> list[str]:
+    """Training-episode curves from the runs' logs (:mod:`.training_curves`), where present."""
+    from .training_curves import plot_training
+
+    figs = [(task, plot_training(task, groups, runs_dir, out)) for task, groups in by_task.items()]
+    if not any(fig for _, fig in figs):
+        return []
+    lines = ["## Training episodes", "",
+             "Success and return over the last 100 training episodes (the exploring policy, not the "
+             "deterministic one evaluated above), from each run's TensorBoard log; mean over seeds, range "
+             "shaded.", ""]
+    return lines + [line for task, fig in figs if fig for line in (f"![{task} training]({fig.name})", "")]
 
 
 def _ranking_table(columns: list[str], settings: dict[tuple[str, ...], list[float]]) -> list[str]:
