@@ -16,6 +16,7 @@ earlier segment's from its first logged step on (the steps it trained again).
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -74,12 +75,13 @@ def plot_training(task: str, groups: dict[tuple[str, str, str], list[dict[str, A
                 continue
             grid = np.linspace(0, max(int(s[-1]) for s, _ in series), 200)
             ys = np.array([np.interp(grid, s, v, left=np.nan, right=np.nan) for s, v in series])
-            with np.errstate(all="ignore"):
-                mean = np.nanmean(ys, axis=0) if len(ys) > 1 else ys[0]
+            with warnings.catch_warnings():  # steps before any run's first log are all NaN: left blank
+                warnings.simplefilter("ignore", RuntimeWarning)
+                mean, low, high = np.nanmean(ys, axis=0), np.nanmin(ys, axis=0), np.nanmax(ys, axis=0)
             line, = ax.plot(grid, mean, color=color, label=f"{mode} / {reward} / {algo} (n={len(series)})")
             color = line.get_color()
             if len(ys) > 1:
-                ax.fill_between(grid, np.nanmin(ys, axis=0), np.nanmax(ys, axis=0), color=color, alpha=0.2)
+                ax.fill_between(grid, low, high, color=color, alpha=0.2)
             drawn = True
     if not drawn:
         plt.close(fig)
