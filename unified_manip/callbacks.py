@@ -4,6 +4,7 @@ and reward terms. :func:`make_callbacks` puts a run's list together.
 
 from __future__ import annotations
 
+import os
 from collections import deque
 from pathlib import Path
 from typing import Any, Callable, Mapping
@@ -35,6 +36,38 @@ class SuccessRate(BaseCallback):
         if len(self.model.ep_success_buffer) > 0:
             self.logger.record("rollout/success_rate", float(np.mean(self.model.ep_success_buffer)))
             self.logger.dump(self.num_timesteps)
+
+
+class StopOnSignal(BaseCallback):
+    """Turns Ctrl-C (and SIGTERM) into a stop where the checkpoint written on the way out
+    is whole: at the start of the next rollout, after the last update.
+
+    SB3 counts an env step before its callbacks see it and stores the transition after
+    them, so an interrupt raised wherever the signal lands could checkpoint a step count
+    one transition ahead of the replay buffer. :meth:`request` is the signal handler: the
+    first signal sets a flag that :meth:`_on_rollout_start` turns into
+    ``KeyboardInterrupt`` (with :attr:`whole` set); a second one raises at once, and the
+    run then resumes from its last periodic checkpoint.
+    """
+
+    def __init__(self):
+        super().__init__()
+        self.requested = False
+        self.whole = False
+
+    def request(self, signum, frame) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+        os.write(2, b"stopping at the end of this rollout to write a checkpoint (again to stop at once, without one)\n")
+
+    def _on_rollout_start(self) -> None:
+        if self.requested:
+            self.whole = True
+            raise KeyboardInterrupt
+
+    def _on_step(self) -> bool:
+        return True
 
 
 class Checkpoint(BaseCallback):
@@ -182,13 +215,14 @@ def resume_evaluations(evaluation: EvalCallback, path: Path, upto: int) -> None:
 
 def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, off_policy: bool, progress: bool,
                    scales: Mapping[str, float], elapsed: Callable[[], float], resumed_at: int = 0,
-                   n_envs: int = 1) -> CallbackList:
+                   n_envs: int = 1, stop: StopOnSignal | None = None) -> CallbackList:
     """The callbacks of a run that trains to ``total`` env steps; ``elapsed()`` is the
     run's wall time so far (all segments), recorded at each checkpoint.
 
     ``n_envs`` is the number of *training* envs: EvalCallback counts calls of the
     training env's step, each ``n_envs`` env steps, so ``eval_freq`` (env steps) is
-    divided by it. ``scales`` are the reward terms' scales (:class:`RewardTerms`).
+    divided by it. ``scales`` are the reward terms' scales (:class:`RewardTerms`);
+    ``stop`` is the run's :class:`StopOnSignal`, if it handles signals.
     """
     evaluation = EvalCallback(
         eval_env,
@@ -203,6 +237,7 @@ def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, 
     if resumed_at:
         resume_evaluations(evaluation, run_dir / "eval" / "evaluations.npz", resumed_at)
     return CallbackList([
+        *([stop] if stop is not None else []),
         RewardTerms(scales),
         SuccessRate(off_policy),
         Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy, elapsed),

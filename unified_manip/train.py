@@ -83,7 +83,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
 
     import torch
 
-    from .callbacks import make_callbacks
+    from .callbacks import StopOnSignal, make_callbacks
     from .vecenvs import eval_env as make_eval_env
 
     algo = get_algo(req.algo)
@@ -142,25 +142,31 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
+        stop = StopOnSignal()
         callbacks = make_callbacks(req.steps, run_dir, params, eval_env, algo.off_policy, progress, _reward_scales(req),
                                    elapsed=lambda: elapsed_before + time.time() - started,
-                                   resumed_at=int(model.num_timesteps), n_envs=n_envs)
-        # Ctrl-C and kill both end in a checkpoint. SIGINT is set explicitly: a process
-        # started in the background (or by a parent that ignores it) inherits SIG_IGN.
-        previous_handler = signal.signal(signal.SIGTERM, _raise_interrupt)
-        previous_int = signal.signal(signal.SIGINT, signal.default_int_handler)
+                                   resumed_at=int(model.num_timesteps), n_envs=n_envs, stop=stop)
+        # Ctrl-C and kill both end in a checkpoint, written where it is whole (see
+        # StopOnSignal). SIGINT is set explicitly: a process started in the background (or
+        # by a parent that ignores it) inherits SIG_IGN.
+        previous_handler = signal.signal(signal.SIGTERM, stop.request)
+        previous_int = signal.signal(signal.SIGINT, stop.request)
         try:
             if remaining > 0:
                 model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
         except KeyboardInterrupt:
-            checkpoints.write(model, run_dir, algo.off_policy)
-            write_status(
-                run_dir,
-                state="running",
-                num_timesteps=int(model.num_timesteps),
-                wall_time_s=elapsed_before + time.time() - started,
-            )
-            log(f"{run_dir}: interrupted at step {model.num_timesteps}; run the same command again to resume")
+            if stop.whole:
+                checkpoints.write(model, run_dir, algo.off_policy)
+                write_status(
+                    run_dir,
+                    state="running",
+                    num_timesteps=int(model.num_timesteps),
+                    wall_time_s=elapsed_before + time.time() - started,
+                )
+                log(f"{run_dir}: interrupted at step {model.num_timesteps}; run the same command again to resume")
+            else:
+                log(f"{run_dir}: stopped at once at step {model.num_timesteps}, without a checkpoint; run the same "
+                    f"command again to resume from step {read_status(run_dir)['num_timesteps']}")
             raise
         finally:
             signal.signal(signal.SIGTERM, previous_handler)
@@ -193,7 +199,3 @@ def _reward_scales(req: TrainRequest) -> dict[str, float]:
 def _transitions(model) -> int:
     buffer = model.replay_buffer
     return int(buffer.size() * buffer.n_envs)
-
-
-def _raise_interrupt(signum, frame):  # pragma: no cover - exercised by the kill test
-    raise KeyboardInterrupt

@@ -3,6 +3,7 @@ evaluation), observation normalisation, and the algorithm's keyword arguments.""
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 from typing import Any
@@ -30,7 +31,8 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
         return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
 
     return sb3_make_vec_env(
-        f"unified_manip:{env_id}",  # workers import unified_manip, which registers the IDs
+        # Worker processes import unified_manip, which registers the IDs.
+        functools.partial(_worker_env, env_id) if kind == "subproc" else f"unified_manip:{env_id}",
         n_envs=n_envs,
         seed=seed,
         env_kwargs=env_kwargs,
@@ -39,6 +41,17 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
         monitor_kwargs={"info_keywords": ("is_success", "sim_unstable")},
         vec_env_cls=SubprocVecEnv if kind == "subproc" else DummyVecEnv,
     )
+
+
+def _worker_env(env_id: str, **kwargs):
+    """The env of a ``SubprocVecEnv`` worker. The worker ignores Ctrl-C: a terminal sends
+    it to the whole process group, SB3's worker exits on it, and the trainer, which stops
+    at the end of its rollout to checkpoint, would find its envs gone."""
+    import gymnasium as gym
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return gym.make(env_id, **kwargs)
 
 
 def eval_env(req: TrainRequest, n_envs: int):
