@@ -315,3 +315,20 @@ def test_random_steps_stay_stable(task_id, mode):
         if terminated or truncated:
             env.reset()
     assert unstable == 0
+
+
+def test_arm4_pick_and_place_v1_puts_half_of_its_goals_on_the_table():
+    """v1 changes only the goal distribution (Fetch's): about half of the goals lie at the
+    cube's resting height, the rest in v0's band in the air, where all of v0's are."""
+    from unified_manip.tasks.arm4.goals import PLACE_GOAL_HIGH, PLACE_GOAL_LOW
+    from unified_manip.tasks.arm4.scene import CUBE_REST_Z
+
+    heights = {}
+    for version in (0, 1):
+        env = make(f"UnifiedManip/Arm4PickAndPlace-v{version}", "ee_delta", "sparse")
+        heights[version] = np.array([env.reset(seed=s)[0]["desired_goal"][2] for s in range(200)])
+        env.close()
+    in_air = (heights[1] >= PLACE_GOAL_LOW[2]) & (heights[1] <= PLACE_GOAL_HIGH[2])
+    on_table = np.isclose(heights[1], CUBE_REST_Z, atol=1e-6)
+    assert np.all(heights[0] >= PLACE_GOAL_LOW[2])
+    assert np.all(in_air | on_table) and 0.4 < on_table.mean() < 0.6, on_table.mean()

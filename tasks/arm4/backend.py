@@ -82,6 +82,7 @@ class Arm4Backend(Backend):
         substeps: Physics substeps of 2 ms per env step (10: 50 Hz control).
         controllers: The action modes, ``{mode: controller config}``.
         min_goal_distance: Push goals are at least this far from the cube at reset, m.
+        table_goal_fraction: The share of pick-and-place goals on the table top.
     """
 
     SCENES = ("reach", "push", "pick_and_place")
@@ -93,6 +94,7 @@ class Arm4Backend(Backend):
         substeps: int = SUBSTEPS,
         controllers: Mapping[str, ControllerConfig] = CONTROLLERS,
         min_goal_distance: float = PUSH_MIN_DISTANCE,
+        table_goal_fraction: float = 0.0,
     ) -> None:
         if scene not in self.SCENES:
             raise ValueError(f"unknown Arm4 scene {scene!r}; expected one of {', '.join(map(repr, self.SCENES))}")
@@ -101,6 +103,7 @@ class Arm4Backend(Backend):
         self.scene = scene
         self.substeps = substeps
         self.min_goal_distance = min_goal_distance
+        self.table_goal_fraction = table_goal_fraction
         self.model = _load_model(with_object=scene != "reach")
         self.data = mujoco.MjData(self.model)
         self.dt = substeps * self.model.opt.timestep
@@ -153,7 +156,7 @@ class Arm4Backend(Backend):
             xy = sample_object_xy(np_random)
             d.qpos[self._obj_q : self._obj_q + 3] = (xy[0], xy[1], CUBE_REST_Z)
             d.qpos[self._obj_q + 3 : self._obj_q + 7] = (1.0, 0.0, 0.0, 0.0)
-        self._goal = sample_goal(self.scene, np_random, xy, self.min_goal_distance)
+        self._goal = sample_goal(self.scene, np_random, xy, self.min_goal_distance, self.table_goal_fraction)
         m.site_pos[self._goal_site] = self._goal
         mujoco.mj_forward(m, d)
         self.control.reset()

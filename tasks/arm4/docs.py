@@ -106,3 +106,23 @@ Dense reward: as v0.
 Version history: v0 initial; v1 Fetch's timing (25 Hz, 50 steps) and goals (no minimum
 distance from the cube).
 """
+
+PICK_AND_PLACE_V1_DOC = f"""Arm4PickAndPlace-v1: Arm4PickAndPlace with Fetch's goal distribution.
+
+The same arm, cube, table and timing as v0 (100 steps of 20 ms). One thing changes, to match
+FetchPickAndPlace (issue 10, part 3b: why the arm learns more slowly than Fetch): half of
+the goals lie on the table top (z at the cube's resting height), the other half in v0's
+band in the air. Goals are sampled in x [0.30, 0.50], y [0.10, 0.30] m; with probability
+0.5 z is the resting height, otherwise z [0.50, 0.60] m. A goal on the table can be met by
+pushing or carrying the cube there, so a sparse reward meets successes without a lift, as
+in Fetch (where the air half reaches 45 cm above the table).
+The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m. Success: the cube's centre is
+within 5 cm of the goal.
+
+Observation (34,):
+{_OBJECT_TABLE}
+Goal (3,): achieved = cube centre, desired = goal point, m.
+{_MODES}
+Dense reward: as v0.
+Version history: v0 initial; v1 half of the goals on the table (Fetch's distribution).
+"""

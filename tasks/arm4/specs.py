@@ -9,7 +9,7 @@ from unified_manip.registry import TaskSpec
 
 from ..scripted import EEDeltaPolicy
 from .controllers import CONTROLLERS, CONTROLLERS_25HZ
-from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
+from .docs import PICK_AND_PLACE_DOC, PICK_AND_PLACE_V1_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
 from .policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
 
 _BACKEND = "unified_manip.tasks.arm4.backend:Arm4Backend"
@@ -49,4 +49,13 @@ PUSH_V1 = replace(
     render_fps=25,
 )
 
-SPECS: tuple[TaskSpec, ...] = (*V0, PUSH_V1)
+#: Arm4PickAndPlace with Fetch's goal distribution (issue 10, part 3b): half of the goals on
+#: the table; v0's timing, so that one lever changes.
+PICK_AND_PLACE_V1 = replace(
+    V0[2],
+    version=1,
+    make_backend=lazy(_BACKEND, scene="pick_and_place", table_goal_fraction=0.5),
+    doc=PICK_AND_PLACE_V1_DOC,
+)
+
+SPECS: tuple[TaskSpec, ...] = (*V0, PUSH_V1, PICK_AND_PLACE_V1)
