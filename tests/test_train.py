@@ -340,3 +340,16 @@ def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path,
     assert train(_tiny_request(tmp_path / "file", steps=100), **quiet)["state"] == "finished"
     with pytest.raises(hyperparams.HyperparameterError, match="n_envs must be at least 1, got 0"):
         hyperparams.resolve("sac", task, ("n_envs=0",))
+
+
+def test_torch_threads_follow_omp_num_threads_where_set(monkeypatch):
+    """A user who sets OMP_NUM_THREADS=1 to train beside another run gets one torch thread
+    (torch.set_num_threads would otherwise override it, and oversubscribed threads spin)."""
+    from unified_manip.train import _default_threads
+
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    assert _default_threads() == 1
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")
+    assert _default_threads() == 3
+    monkeypatch.delenv("OMP_NUM_THREADS")
+    assert _default_threads() == max(1, min(2, os.cpu_count() or 1))

@@ -11,6 +11,7 @@ run directory: a second is refused. What a run directory holds is
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import time
@@ -39,7 +40,7 @@ def train(
 ) -> dict[str, Any]:
     """Train (or resume, or skip if finished) the run ``req`` describes.
 
-    ``threads`` is torch's thread count (default: up to 2). A caller that runs several
+    ``threads`` is torch's thread count (default: ``OMP_NUM_THREADS`` if set, else up to 2). A caller that runs several
     trainings side by side passes 1: oversubscribed OpenMP threads spin and slow every
     run several-fold. The run directory is owned by this process while it trains; if
     another process owns it, this waits up to ``lock_wait_s`` seconds for it to end.
@@ -64,8 +65,11 @@ def train(
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
     from .vector.factory import resolve_vec
 
+    from .demonstrations import check as check_demonstrations
+
     try:
         resolve_vec(req.vec, req.env, n_envs)
+        check_demonstrations(req.env, req.action_mode, get_algo(req.algo).off_policy, params.get("demonstrations", 0))
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
@@ -101,7 +105,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
-    torch.set_num_threads(threads or max(1, min(2, os.cpu_count() or 1)))
+    torch.set_num_threads(threads or _default_threads())
     candidates = checkpoints.published(run_dir)
     if not candidates:  # starting (again) from step 0: logs of an aborted attempt would mislead
         for sub in ("monitor", "eval", "best", "tb"):
@@ -139,6 +143,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             env = _normalized(raw_env, params, None, training=True)
             model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
+            if params.get("demonstrations"):
+                _demonstrate(model, req, n_envs, params["demonstrations"], log)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -185,6 +191,30 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
     finally:
         raw_env.close()
         eval_env.close()
+
+
+def _default_threads() -> int:
+    """OMP_NUM_THREADS where the user set it (torch.set_num_threads would override it),
+    else up to 2."""
+    try:
+        return max(1, int(os.environ["OMP_NUM_THREADS"]))
+    except (KeyError, ValueError):
+        return max(1, min(2, os.cpu_count() or 1))
+
+
+def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> None:
+    """Fill the new model's replay buffer with the scripted policy's episodes, played in
+    envs of their own (see :mod:`unified_manip.demonstrations`)."""
+    from .demonstrations import SEED_OFFSET, prefill
+
+    venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, req.vec)
+    try:
+        done = prefill(model, venv, req.env, req.action_mode, episodes)
+    finally:
+        venv.close()
+    write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
+    log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
+        f"{done['success']:.2f} success) in the replay buffer")
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:

@@ -1,0 +1,161 @@
+"""Scripted-policy demonstrations in the replay buffer (``demonstrations: N``, issue 10).
+
+The contract: N episodes (rounded up to whole rounds of the envs) of the task's scripted
+policy go into the replay buffer before training, whole and consistent with the task's
+reward, played in envs of their own (the run's monitor and step count hold the agent's
+episodes only), once per run (a resumed run does not play them again). Runs that cannot
+take them are a clear error.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from unified_manip import checkpoints
+from unified_manip.demonstrations import DemonstrationError, check, episodes_per_env, prefill
+from unified_manip.request import TrainRequest
+from unified_manip.train import train
+
+ARM = "UnifiedManip/Arm4PickAndPlace-v0"
+FETCH = "UnifiedManip/FetchPickAndPlace-v0"
+
+
+def _model_and_env(task_id: str, n_envs: int, vec: str):
+    from sb3_contrib import TQC
+    from stable_baselines3 import HerReplayBuffer
+
+    from unified_manip.vecenvs import make_vec_env
+
+    kwargs = {"action_mode": "ee_delta", "reward_type": "sparse"}
+    venv = make_vec_env(task_id, kwargs, n_envs, 7, None, vec)
+    model = TQC("MultiInputPolicy", make_vec_env(task_id, kwargs, n_envs, 0, None, vec), buffer_size=5000,
+                replay_buffer_class=HerReplayBuffer, learning_starts=10, batch_size=16, seed=0)
+    return model, venv
+
+
+@pytest.mark.parametrize("task_id,n_envs,vec", [(ARM, 2, "native"), (FETCH, 1, "dummy")])
+def test_prefill_stores_whole_scripted_episodes_consistent_with_the_reward(task_id, n_envs, vec):
+    model, venv = _model_and_env(task_id, n_envs, vec)
+    horizon = gym.spec(task_id).max_episode_steps
+    done = prefill(model, venv, task_id, "ee_delta", episodes=3)
+    per_env = episodes_per_env(3, n_envs)
+    assert done["episodes"] == per_env * n_envs
+    assert done["transitions"] == per_env * n_envs * horizon
+    buffer = model.replay_buffer
+    rows = buffer.size()
+    assert rows * n_envs == done["transitions"]
+    # Whole episodes: every stored row knows its episode's full length.
+    assert np.all(buffer.ep_length[:rows] == horizon)
+    # The stored sparse rewards are the task's reward of the stored next achieved goal.
+    env = gym.make(task_id, action_mode="ee_delta", reward_type="sparse")
+    ag = buffer.next_observations["achieved_goal"][:rows].reshape(rows * n_envs, -1)
+    dg = buffer.observations["desired_goal"][:rows].reshape(rows * n_envs, -1)
+    expected = env.unwrapped.compute_reward(ag, dg, [{}] * len(ag))
+    np.testing.assert_allclose(buffer.rewards[:rows].reshape(-1), expected, atol=1e-6)
+    # The reported success is the fraction of episodes whose last step met the goal.
+    last = buffer.rewards[horizon - 1:rows:horizon].reshape(-1)
+    assert done["success"] == pytest.approx(float(np.mean(last == 0.0)))
+    assert done["success"] >= 0.5  # the scripted policy solves most episodes (>= 0.9 over 100)
+    assert np.all(np.abs(buffer.actions[:rows]) <= 1.0)
+    # HER samples from the demonstrations (relabelled goals included).
+    sample = buffer.sample(32, env=None)
+    assert sample.rewards.shape == (32, 1)
+    venv.close()
+
+
+def _request(run_dir: Path, algo: str = "tqc_her", **overrides) -> TrainRequest:
+    settings = {"demonstrations": 2, "learning_starts": 50, "batch_size": 32, "eval_freq": 1000,
+                "n_eval_episodes": 1, "checkpoint_freq": 200, "n_envs": 1}
+    settings.update(overrides)
+    return TrainRequest(env=ARM, action_mode="ee_delta", reward_type="sparse", algo=algo, steps=300,
+                        run_dir=run_dir, overrides=tuple(f"{k}={v}" for k, v in settings.items()))
+
+
+def _buffer_rows(path: Path) -> int:
+    import pickle
+
+    with open(path, "rb") as f:
+        return pickle.load(f).size()  # the final buffer, as SB3's save_replay_buffer writes it
+
+
+def test_a_run_with_demonstrations_keeps_them_apart_from_its_own_episodes(tmp_path):
+    run = tmp_path / "run"
+    logs: list[str] = []
+    train(_request(run), progress=False, threads=1, log=logs.append)
+    record = json.loads((run / "demonstrations.json").read_text())
+    assert record["episodes"] == 2 and record["transitions"] == 200
+    assert any("2 demonstration episodes (200 transitions" in line for line in logs)
+    # The monitor holds the agent's 3 episodes of 100 steps, not the demonstrations.
+    with open(next((run / "monitor").rglob("*.monitor.csv"))) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    assert [int(r["l"]) for r in rows] == [100, 100, 100]
+    assert json.loads((run / "status.json").read_text())["num_timesteps"] == 300
+    # The final buffer holds both: 200 demonstration transitions and the agent's 300.
+    assert _buffer_rows(run / "replay_buffer.pkl") == 500
+
+
+def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
+    import os
+    import signal
+    import threading
+
+    run = tmp_path / "run"
+    first: list[str] = []
+
+    def interrupt_after_first_checkpoint():
+        while not checkpoints.published(run):
+            threading.Event().wait(0.2)
+        os.kill(os.getpid(), signal.SIGINT)  # train() checkpoints and raises KeyboardInterrupt
+
+    watcher = threading.Thread(target=interrupt_after_first_checkpoint, daemon=True)
+    watcher.start()
+    with pytest.raises(KeyboardInterrupt):
+        train(_request(run), progress=False, threads=1, log=first.append)
+    watcher.join()
+    assert any("demonstration episodes" in line for line in first)
+    step = json.loads((run / "status.json").read_text())["num_timesteps"]
+    assert 200 <= step < 300
+    again: list[str] = []
+    train(_request(run), progress=False, threads=1, log=again.append)
+    assert not any("demonstration episodes" in line for line in again)
+    assert any(f"resuming from step {step} of 300 on cpu with {200 + step} transitions" in line for line in again), again
+    assert _buffer_rows(run / "replay_buffer.pkl") == 500
+
+
+@pytest.mark.parametrize(
+    "algo,task_id,mode,episodes,message",
+    [
+        ("ppo", ARM, "ee_delta", 2, "demonstrations go into a replay buffer; use an off-policy algorithm (sac, td3, "),
+        ("tqc_her", ARM, "joint_delta", 2, "the Arm4 scripted policies emit ee_delta actions; got action_mode='joint_delta'"),
+        ("sac_her", "UnifiedManip/HandReach-v0", "native", 2, "UnifiedManip/HandReach-v0 has no scripted policy"),
+        ("tqc_her", ARM, "ee_delta", -1, "demonstrations must be a number of episodes, 0 or more; got -1"),
+    ],
+)
+def test_runs_that_cannot_take_demonstrations_are_refused(algo, task_id, mode, episodes, message):
+    from unified_manip.hyperparams import get_algo
+
+    with pytest.raises(DemonstrationError, match=None) as err:
+        check(task_id, mode, get_algo(algo).off_policy, episodes)
+    assert message in str(err.value)
+    check(task_id, mode, get_algo(algo).off_policy, 0)  # none asked: always fine
+
+
+def test_the_cli_refuses_demonstrations_for_ppo_in_one_line(tmp_path):
+    import subprocess
+    import sys
+
+    proc = subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", "train", "--env", ARM, "--algo", "ppo", "--steps", "10",
+         "--set", "demonstrations=5", "--run-dir", str(tmp_path / "r"), "--no-progress"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "use an off-policy algorithm" in lines[0], proc.stderr
+    assert not (tmp_path / "r").exists()

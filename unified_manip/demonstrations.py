@@ -1,0 +1,96 @@
+"""Demonstrations from the task's scripted policy in an off-policy run's replay buffer.
+
+The hyperparameter ``demonstrations: N`` plays N episodes of the task's scripted policy
+(:attr:`~unified_manip.registry.TaskSpec.scripted_policy`) before training starts and
+stores every transition in the replay buffer, as the HER paper's follow-up did with
+expert episodes (Nair et al. 2018, "Overcoming Exploration in Reinforcement Learning with
+Demonstrations"), without its behaviour-cloning loss. HER relabels them like any other
+episode. They are played in envs of their own, so the run's monitor files, step count and
+observation statistics hold the agent's own episodes only; the buffer keeps them for the
+whole run (and checkpoints carry them), so a resumed run does not play them again.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+#: Offset of the demonstration envs' seed from the run's (the eval env uses +10,000).
+SEED_OFFSET = 20_000
+
+
+class DemonstrationError(ValueError):
+    """Demonstrations were asked of a run that cannot take them."""
+
+
+def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> None:
+    """Raise :class:`DemonstrationError` unless a run can take ``episodes`` demonstrations
+    (0: none): an off-policy algorithm (a replay buffer) and a task whose scripted policy
+    emits this action mode's actions."""
+    from .hyperparams import ALGOS
+    from .registry import get_task
+
+    if episodes < 0:
+        raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")
+    if episodes == 0:
+        return
+    if not off_policy:
+        choices = ", ".join(name for name, algo in ALGOS.items() if algo.off_policy)
+        raise DemonstrationError(f"demonstrations go into a replay buffer; use an off-policy algorithm ({choices})")
+    spec = get_task(task_id)
+    if spec.scripted_policy is None:
+        raise DemonstrationError(f"{task_id} has no scripted policy to demonstrate with")
+    try:
+        spec.scripted_policy(action_mode)
+    except ValueError as err:
+        raise DemonstrationError(f"demonstrations: {err}") from None
+
+
+def episodes_per_env(episodes: int, n_envs: int) -> int:
+    """Each env plays this many: ``episodes`` rounded up to a multiple of ``n_envs``, so
+    that every env ends its last episode on the same step and the buffer holds no
+    partial episode (HER samples goals from whole episodes)."""
+    return math.ceil(episodes / n_envs)
+
+
+def prefill(model, venv, task_id: str, action_mode: str, episodes: int) -> dict[str, Any]:
+    """Play ``episodes`` (rounded up, see :func:`episodes_per_env`) of the scripted policy
+    in ``venv`` (an SB3 ``VecEnv`` with the model's env count, seeded, unnormalised) and
+    add every transition to ``model.replay_buffer``.
+
+    Returns ``{"episodes", "transitions", "success"}``: what was stored and the fraction
+    of the demonstrated episodes that ended in success.
+    """
+    from .registry import get_task
+
+    policy = get_task(task_id).scripted_policy(action_mode)
+    per_env = episodes_per_env(episodes, venv.num_envs)
+    buffer = model.replay_buffer
+    if buffer.n_envs != venv.num_envs:
+        raise DemonstrationError(f"the replay buffer has {buffer.n_envs} envs, the demonstration env {venv.num_envs}")
+    obs = venv.reset()
+    finished = np.zeros(venv.num_envs, dtype=int)
+    successes = transitions = 0
+    while finished.min() < per_env:
+        actions = np.stack([policy({k: v[i] for k, v in obs.items()}) for i in range(venv.num_envs)])
+        actions = np.clip(actions, venv.action_space.low, venv.action_space.high)
+        new_obs, rewards, dones, infos = venv.step(actions)
+        next_obs = {k: v.copy() for k, v in new_obs.items()}
+        for i, done in enumerate(dones):  # the vector env has already reset a finished env
+            if done:
+                for k in next_obs:
+                    next_obs[k][i] = infos[i]["terminal_observation"][k]
+        buffer.add(obs, next_obs, model.policy.scale_action(actions), rewards, dones, infos)
+        transitions += venv.num_envs
+        obs = new_obs
+        if dones.any():
+            if not dones.all():
+                raise DemonstrationError(
+                    f"{task_id}: demonstrations need episodes of one fixed length (env episodes ended on different steps)"
+                )
+            finished += 1
+            successes += sum(bool(info.get("is_success", False)) for info in infos)
+    played = int(finished.sum())
+    return {"episodes": played, "transitions": transitions, "success": successes / played}
