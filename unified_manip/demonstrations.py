@@ -1,7 +1,8 @@
 """Demonstrations from the task's scripted policy in an off-policy run's replay buffer.
 
 The hyperparameter ``demonstrations: N`` plays N episodes of the task's scripted policy
-(:attr:`~unified_manip.registry.TaskSpec.scripted_policy`) before training starts and
+(:attr:`~unified_manip.registry.TaskSpec.scripted_policy`, in ``ee_delta``; in another mode
+through :mod:`unified_manip.controllers.translate`) before training starts and
 stores every transition in the replay buffer, as the HER paper's follow-up did with
 expert episodes (Nair et al. 2018, "Overcoming Exploration in Reinforcement Learning with
 Demonstrations"), without its behaviour-cloning loss. HER relabels them like any other
@@ -27,8 +28,9 @@ class DemonstrationError(ValueError):
 
 def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> None:
     """Raise :class:`DemonstrationError` unless a run can take ``episodes`` demonstrations
-    (0: none): an off-policy algorithm (a replay buffer) and a task whose scripted policy
-    emits this action mode's actions."""
+    (0: none): an off-policy algorithm (a replay buffer), a task with a scripted policy,
+    and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
+    can be translated into)."""
     from .hyperparams import ALGOS
     from .registry import get_task
 
@@ -42,10 +44,30 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     spec = get_task(task_id)
     if spec.scripted_policy is None:
         raise DemonstrationError(f"{task_id} has no scripted policy to demonstrate with")
-    try:
-        spec.scripted_policy(action_mode)
-    except ValueError as err:
-        raise DemonstrationError(f"demonstrations: {err}") from None
+    if action_mode != "ee_delta" and spec.controllers[action_mode].controller is None:
+        raise DemonstrationError(
+            f"demonstrations: {task_id}'s action_mode {action_mode!r} is the source's own controller, which the "
+            f"scripted ee_delta policy cannot drive; use one of "
+            f"{', '.join(m for m, c in spec.controllers.items() if c.controller is not None)}"
+        )
+
+
+def policies(task_id: str, action_mode: str, venv) -> list:
+    """One ``obs -> action`` per env of ``venv`` (a ``DummyVecEnv``): the task's scripted
+    ``ee_delta`` policy, its actions played in ``action_mode`` through
+    :class:`~unified_manip.controllers.translate.EEDeltaInMode` on each env's own rig."""
+    from .controllers.translate import EEDeltaInMode
+    from .registry import get_task
+
+    spec = get_task(task_id)
+    scripted = spec.scripted_policy("ee_delta")
+    if action_mode == "ee_delta":
+        return [scripted] * venv.num_envs
+    out = []
+    for env in venv.envs:
+        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+        out.append(lambda obs, translate=translate: translate(scripted(obs)))
+    return out
 
 
 def episodes_per_env(episodes: int, n_envs: int) -> int:
@@ -57,15 +79,13 @@ def episodes_per_env(episodes: int, n_envs: int) -> int:
 
 def prefill(model, venv, task_id: str, action_mode: str, episodes: int) -> dict[str, Any]:
     """Play ``episodes`` (rounded up, see :func:`episodes_per_env`) of the scripted policy
-    in ``venv`` (an SB3 ``VecEnv`` with the model's env count, seeded, unnormalised) and
-    add every transition to ``model.replay_buffer``.
+    in ``venv`` (an SB3 ``DummyVecEnv`` with the model's env count, seeded, unnormalised)
+    and add every transition to ``model.replay_buffer``.
 
     Returns ``{"episodes", "transitions", "success"}``: what was stored and the fraction
     of the demonstrated episodes that ended in success.
     """
-    from .registry import get_task
-
-    policy = get_task(task_id).scripted_policy(action_mode)
+    acting = policies(task_id, action_mode, venv)
     per_env = episodes_per_env(episodes, venv.num_envs)
     buffer = model.replay_buffer
     if buffer.n_envs != venv.num_envs:
@@ -74,7 +94,7 @@ def prefill(model, venv, task_id: str, action_mode: str, episodes: int) -> dict[
     finished = np.zeros(venv.num_envs, dtype=int)
     successes = transitions = 0
     while finished.min() < per_env:
-        actions = np.stack([policy({k: v[i] for k, v in obs.items()}) for i in range(venv.num_envs)])
+        actions = np.stack([act({k: v[i] for k, v in obs.items()}) for i, act in enumerate(acting)])
         actions = np.clip(actions, venv.action_space.low, venv.action_space.high)
         new_obs, rewards, dones, infos = venv.step(actions)
         next_obs = {k: v.copy() for k, v in new_obs.items()}

@@ -167,6 +167,11 @@ class UnifiedManipEnv(GoalEnv):
     def close(self) -> None:
         self._backend.close()
 
+    @property
+    def backend(self):
+        """The simulator running this env (to read its state; the env steps it)."""
+        return self._backend
+
     def timing_physics(self):
         """A context manager that times the simulator's physics alone, as a
         :class:`~unified_manip.backend.PhysicsTimer` (``unified-manip speed``'s hook;

@@ -207,7 +207,8 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> N
     envs of their own (see :mod:`unified_manip.demonstrations`)."""
     from .demonstrations import SEED_OFFSET, prefill
 
-    venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, req.vec)
+    # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
+    venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
     try:
         done = prefill(model, venv, req.env, req.action_mode, episodes)
     finally:

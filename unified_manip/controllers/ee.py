@@ -35,6 +35,10 @@ class EEDeltaController:
         """The grip-site target of this step."""
         return self.rig.site_position() + action[:3] * self.config.step
 
+    def site_action_toward(self, site_target: np.ndarray) -> np.ndarray:
+        """The (unclipped) ``a[:3]`` that makes ``site_target`` this step's target."""
+        return (site_target - self.rig.site_position()) / self.config.step
+
     def __call__(self, action: np.ndarray) -> dict[str, Any]:
         rig = self.rig
         target = self.goal(action)
@@ -61,3 +65,6 @@ class EETargetDeltaController(EEDeltaController):
     def goal(self, action: np.ndarray) -> np.ndarray:
         self.target = self.target + action[:3] * self.config.step
         return self.target.copy()
+
+    def site_action_toward(self, site_target: np.ndarray) -> np.ndarray:
+        return (site_target - self.target) / self.config.step

@@ -4,6 +4,11 @@ The action is ``n`` joint entries plus, where the rig has a gripper, one gripper
 (-1 closed, +1 open). The stateless ones are affine, ``a * scale + offset`` or
 ``q + a * scale`` (``offset`` None; clipped to the range if the config says so), and
 say so through ``scale``/``offset`` (the native vector env batches them).
+
+Each also answers :meth:`action_toward`: the (unclipped) arm action that, this step,
+commands the joints toward a joint position target ``q_target``: what lets a policy that
+thinks in position targets (e.g. the scripted ``ee_delta`` policies through IK,
+:mod:`.translate`) act in every joint mode.
 """
 
 from __future__ import annotations
@@ -44,6 +49,13 @@ class JointTorqueController(_JointController):
     def __call__(self, action: np.ndarray) -> dict[str, Any]:
         return self._send(action[: self.n] * self.rig.max_torque, action)
 
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        """The rig's own position servo as torques: ``kp (q* - q) - kv q'`` (gravity is
+        compensated by the model)."""
+        rig = self.rig
+        torque = rig.kp * (q_target - rig.joint_positions()) - rig.kv * rig.data.qvel[rig.dof_adr]
+        return torque / rig.max_torque
+
 
 class JointPositionController(_JointController):
     """Absolute target ``a * half_range + mid`` over each joint's command range."""
@@ -56,6 +68,9 @@ class JointPositionController(_JointController):
 
     def __call__(self, action: np.ndarray) -> dict[str, Any]:
         return self._send(action[: self.n] * self.scale + self.offset, action)
+
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        return (q_target - self.offset) / self.scale
 
 
 class JointDeltaController(_JointController):
@@ -78,6 +93,9 @@ class JointDeltaController(_JointController):
             target = np.minimum(np.maximum(target, rig.lower), rig.upper)
         return self._send(target, action)
 
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        return (q_target - self.rig.joint_positions()) / self.scale
+
 
 class JointTargetDeltaController(_JointController):
     """Target ``previous target + a * max_delta``, clipped to the range; the measured
@@ -99,6 +117,9 @@ class JointTargetDeltaController(_JointController):
         self.target = np.minimum(np.maximum(target, rig.lower), rig.upper)
         return self._send(self.target.copy(), action)
 
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        return (q_target - self.target) / self.scale
+
 
 class JointVelocityController(_JointController):
     """Velocity servos tracking ``a * max_velocity``."""
@@ -113,6 +134,10 @@ class JointVelocityController(_JointController):
 
     def __call__(self, action: np.ndarray) -> dict[str, Any]:
         return self._send(action[: self.n] * self.scale, action)
+
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        """The speed that covers the distance in one env step."""
+        return (q_target - self.rig.joint_positions()) / (self.rig.dt * self.scale)
 
 
 class IntegratedJointVelocityController(_JointController):
@@ -135,3 +160,6 @@ class IntegratedJointVelocityController(_JointController):
         target = np.minimum(np.maximum(target, q - c.max_lead), q + c.max_lead)
         self.target = np.minimum(np.maximum(target, rig.lower), rig.upper)
         return self._send(self.target.copy(), action)
+
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        return (q_target - self.target) / (self.config.max_velocity * self.rig.dt)

@@ -1,0 +1,53 @@
+"""``ee_delta`` actions played in another action mode of the same rig.
+
+The families' scripted policies emit ``ee_delta`` actions. :class:`EEDeltaInMode` turns
+each into the action of the env's own mode that commands the same motion, from the
+grip-site target ``p + a[:3] * step`` of the task's ``ee_delta`` config: an end-effector
+controller's ``site_action_toward`` that target; for a joint mode, the target solved to
+joint targets by the same mink IK, then the joint controller's ``action_toward`` them
+(:mod:`.joint`). The result is clipped to ``[-1, 1]``; the gripper entry passes through. In ``joint_position`` that is
+the ``ee_delta`` controller's own command; the relative modes clip it to their step, and
+the velocity and torque modes follow it through their own dynamics, so a policy's
+success can differ by mode (demonstrations record it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .configs import EEDelta
+from .ik import MinkIK
+
+
+class EEDeltaInMode:
+    """Maps ``ee_delta`` actions to the actions of ``backend``'s mode.
+
+    Args:
+        backend: A backend with a ``rig`` and a ``control`` of the shared controllers.
+        ee: The task's ``ee_delta`` config (step and IK settings).
+
+    Raises:
+        ValueError: the backend's mode is not driven by a shared controller (``native``
+            of Fetch and robosuite, the source's own controller).
+    """
+
+    def __init__(self, backend, ee: EEDelta) -> None:
+        control = getattr(backend, "control", None)
+        self.site_mode = hasattr(control, "site_action_toward")
+        if not (self.site_mode or hasattr(control, "action_toward")):
+            raise ValueError("only the modes of the shared controllers can play ee_delta actions "
+                             "(not a source's own controller)")
+        self.rig, self.control, self.step = backend.rig, control, ee.step
+        if not self.site_mode:
+            self.ik = MinkIK(self.rig.model, self.rig, orientation_cost=ee.orientation_cost, iterations=ee.iterations)
+
+    def __call__(self, ee_action: np.ndarray) -> np.ndarray:
+        rig = self.rig
+        target = rig.site_position() + np.asarray(ee_action[:3]) * self.step
+        if self.site_mode:
+            arm = self.control.site_action_toward(target)
+        else:
+            q_target, _, _ = self.ik.solve(rig.data.qpos, target, rig.ee_rotation(target))
+            arm = self.control.action_toward(q_target)
+        action = np.append(arm, ee_action[3]) if rig.has_gripper else arm
+        return np.clip(action, -1.0, 1.0).astype(np.float32)
