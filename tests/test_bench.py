@@ -230,6 +230,33 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     assert (tmp_path / "report" / "Arm4Reach-v0_success.png").stat().st_size > 10_000
 
 
+def test_report_states_the_demonstrations_runs_started_with(tmp_path):
+    """Runs given scripted demonstrations say so in the report (a prior they did not
+    collect); a results.csv written before the column existed still reads."""
+    rows = _fixture_rows()
+    for r in rows[:4]:
+        r["demonstrations"] = json.dumps({"episodes": 104, "transitions": 10400, "success": 0.98 if r["seed"] else 1.0})
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    write_results(bench, rows)
+    read = read_results(bench / "results.csv")
+    assert sum(r["demonstrations"] is not None for r in read) == 4
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    assert ("- Demonstrations: 4 of 8 runs started with 104 episodes of the task's scripted policy in the replay "
+            "buffer (their success 0.98–1.00); they are not counted in the budget.") in text
+    import csv
+
+    from unified_manip.results import RESULT_COLUMNS
+
+    old = bench / "old.csv"
+    with old.open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=RESULT_COLUMNS)
+        writer.writeheader()
+        writer.writerow({k: rows[5][k] for k in RESULT_COLUMNS})
+    (row,) = read_results(old)
+    assert row["demonstrations"] is None and row["run"] == rows[5]["run"]
+
+
 def test_report_ranks_reward_settings_and_sets_claims_beside_measurements(tmp_path):
     """One action mode, several algorithm x reward settings (the reward-design grid)."""
     rows = _fixture_rows()

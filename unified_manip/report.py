@@ -111,6 +111,16 @@ def _fmt(x: float) -> str:
     return "—" if x != x else f"{x:.2f}"
 
 
+def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
+    """What the runs that started from scripted demonstrations were given (a prior they
+    did not collect, so the report says so)."""
+    episodes = sorted({r["demonstrations"]["episodes"] for r in demonstrated})
+    success = [r["demonstrations"]["success"] for r in demonstrated]
+    return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
+            f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
+            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.")
+
+
 def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:
     """Write ``report.md`` and figures for ``results`` into ``out``; return the Markdown path."""
     rows = read_results(results)
@@ -128,12 +138,14 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     budgets = sorted({r["steps"] for r in rows})
     seeds = sorted({r["seed"] for r in rows})
     versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
+    demonstrated = [r for r in rows if r.get("demonstrations")]
     lines += [
         f"- Runs: {len(rows)} finished (rows of `{Path(results).name}`; unfinished runs are never included).",
         f"- Budget: {', '.join(f'{b:,}' for b in budgets)} environment steps per run.",
         f"- Seeds: {', '.join(map(str, seeds))}.",
         f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
         f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",
+        *([_demonstrations_line(demonstrated, len(rows))] if demonstrated else []),
         "- Success rate: deterministic evaluation episodes at each evaluation point (SB3 `EvalCallback`); "
         "final = the last evaluation.",
         f"- Intervals: 95% percentile bootstrap over seeds (`scipy.stats.bootstrap`); IQM (rliable) only with "

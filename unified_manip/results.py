@@ -18,6 +18,9 @@ RESULT_COLUMNS = (
     "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",
     "curve", "wall_time_s", "steps_per_s", "versions",
 )
+#: Written by the bench, absent from older files: the run's ``demonstrations.json``
+#: (episodes, transitions, success of the scripted episodes it started with), JSON or "".
+OPTIONAL_COLUMNS = ("demonstrations",)
 
 
 class ResultsError(ValueError):
@@ -48,7 +51,13 @@ def collect_row(run_dir: Path) -> dict[str, Any] | None:
         "wall_time_s": wall,
         "steps_per_s": status["num_timesteps"] / wall if wall and wall == wall else float("nan"),
         "versions": json.dumps(config["versions"], sort_keys=True),
+        "demonstrations": _demonstrations(run_dir),
     }
+
+
+def _demonstrations(run_dir: Path) -> str:
+    path = run_dir / "demonstrations.json"
+    return json.dumps(json.loads(path.read_text()), sort_keys=True) if path.is_file() else ""
 
 
 def write_results(out_dir: Path, rows: list[dict[str, Any]]) -> Path:
@@ -56,10 +65,10 @@ def write_results(out_dir: Path, rows: list[dict[str, Any]]) -> Path:
     path = Path(out_dir) / "results.csv"
     tmp = path.with_name("results.csv.tmp")
     with tmp.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=RESULT_COLUMNS)
+        writer = csv.DictWriter(f, fieldnames=RESULT_COLUMNS + OPTIONAL_COLUMNS)
         writer.writeheader()
         for row in sorted(rows, key=lambda r: r["run"]):
-            writer.writerow({k: row[k] for k in RESULT_COLUMNS})
+            writer.writerow({**{k: row[k] for k in RESULT_COLUMNS}, **{k: row.get(k) or "" for k in OPTIONAL_COLUMNS}})
     os.replace(tmp, path)
     return path
 
@@ -85,6 +94,7 @@ def read_results(path: Path) -> list[dict[str, Any]]:
                 r[k] = float(r[k])
             r["curve"] = json.loads(r["curve"])
             r["versions"] = json.loads(r["versions"])
+            r["demonstrations"] = json.loads(r.get("demonstrations") or "null")
         except (TypeError, ValueError) as err:
             raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
     return rows
