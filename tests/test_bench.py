@@ -16,6 +16,7 @@ import yaml
 
 from unified_manip.bench import GridError, load_grid, read_results, run_grid, write_results
 from unified_manip.report import build_report
+from unified_manip.report_figures import final_bars
 from unified_manip.training_curves import read_scalars
 from unified_manip.rewards import RewardSpec, Term
 from unified_manip.sanity import dense_reward_check
@@ -228,6 +229,19 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
                    "![UnifiedManip/Arm4Reach-v0](Arm4Reach-v0_success.png)", "Dense-reward sanity check"):
         assert needle in text
     assert (tmp_path / "report" / "Arm4Reach-v0_success.png").stat().st_size > 10_000
+    # The final-success figure: one bar per setting, best first, labelled by what differs.
+    assert "![UnifiedManip/Arm4Reach-v0 final success per setting](Arm4Reach-v0_final.png)" in text
+    assert (tmp_path / "report" / "Arm4Reach-v0_final.png").stat().st_size > 10_000
+    groups = {}
+    for r in _fixture_rows():
+        groups.setdefault((r["algo"], r["action_mode"], r["reward_type"]), []).append(r)
+    bars = final_bars(groups)
+    assert [(b.label, round(b.mean, 6), b.values) for b in bars] == [
+        ("ee_delta", 0.5, (0.2, 0.4, 0.6, 0.8)), ("joint_delta", 0.2, (0.1, 0.1, 0.3, 0.3))]
+    assert f"[{bars[0].low:.2f}, {bars[0].high:.2f}]" == ee[7]  # the table's interval
+    mixed = {("sac_her", "ee_delta", "sparse"): groups[("sac_her", "ee_delta", "sparse")],
+             ("ppo", "ee_delta", "dense"): groups[("sac_her", "joint_delta", "sparse")]}
+    assert [b.label for b in final_bars(mixed)] == ["sparse / sac_her", "dense / ppo"]
 
 
 def test_report_states_the_demonstrations_runs_started_with(tmp_path):

@@ -19,44 +19,8 @@ from typing import Any
 import numpy as np
 
 from .bench import read_results
-
-#: IQM needs enough runs to trim a quarter from each end.
-MIN_RUNS_FOR_IQM = 4
-CONFIDENCE = 0.95
-
-
-def bootstrap_ci(values: list[float], seed: int = 0) -> tuple[float, float]:
-    """95% percentile-bootstrap interval of the mean (``scipy.stats.bootstrap``)."""
-    from scipy.stats import bootstrap
-
-    data = np.asarray(values, dtype=float)
-    if len(data) < 2:
-        return float("nan"), float("nan")
-    if np.all(data == data[0]):  # no spread: the interval is the point
-        return float(data[0]), float(data[0])
-    res = bootstrap((data,), np.mean, confidence_level=CONFIDENCE, method="percentile", n_resamples=10_000,
-                    random_state=np.random.default_rng(seed))
-    return float(res.confidence_interval.low), float(res.confidence_interval.high)
-
-
-def iqm_with_ci(values: list[float], seed: int = 0) -> tuple[float, float, float] | None:
-    """rliable's IQM and its stratified-bootstrap 95% interval, or None with too few runs."""
-    if len(values) < MIN_RUNS_FOR_IQM:
-        return None
-    from rliable import library as rly
-    from rliable import metrics
-
-    np.random.seed(seed)  # rliable draws from numpy's global generator
-    scores = {"x": np.asarray(values, dtype=float).reshape(-1, 1)}
-    point, interval = rly.get_interval_estimates(scores, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=2000)
-    return float(point["x"][0]), float(interval["x"][0, 0]), float(interval["x"][1, 0])
-
-
-def probability_of_improvement(x: list[float], y: list[float]) -> float:
-    """P(X > Y) from rliable (ties count half)."""
-    from rliable import metrics
-
-    return float(metrics.probability_of_improvement(np.asarray(x, float).reshape(-1, 1), np.asarray(y, float).reshape(-1, 1)))
+from .report_figures import plot_final, plot_task
+from .stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
 
 
 def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]]:
@@ -64,47 +28,6 @@ def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], l
     for r in rows:
         out[r["task"]][(r["algo"], r["action_mode"], r["reward_type"])].append(r)
     return out
-
-
-def _curve_band(runs: list[dict[str, Any]]):
-    """Common eval steps, mean success and a 95% bootstrap band over seeds."""
-    steps = sorted(set.intersection(*(set(t for t, _ in r["curve"]) for r in runs)))
-    table = np.array([[dict(map(tuple, r["curve"]))[t] for t in steps] for r in runs], dtype=float)
-    mean = table.mean(axis=0)
-    low, high = np.full_like(mean, np.nan), np.full_like(mean, np.nan)
-    if len(runs) >= 2:
-        for i in range(len(steps)):
-            low[i], high[i] = bootstrap_ci(table[:, i].tolist(), seed=i)
-    return np.array(steps), mean, low, high
-
-
-def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
-    """Success against steps, one line per setting; ``targets`` (action mode -> success)
-    are drawn as dashed lines."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
-    for (algo, mode, reward), runs in sorted(groups.items()):
-        steps, mean, low, high = _curve_band(runs)
-        line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
-        if np.isfinite(low).any():
-            ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
-    for mode, level in sorted((targets or {}).items()):
-        ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=f"target, {mode}: {level:.2f}")
-    ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
-    ax.set_xlabel("environment steps")
-    ax.set_ylabel("success rate")
-    ax.set_ylim(-0.02, 1.02)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    path = out / f"{task.split('/')[-1]}_success.png"
-    fig.savefig(path)
-    plt.close(fig)
-    return path
 
 
 def _fmt(x: float) -> str:
@@ -158,6 +81,8 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         lines.append("- " + ", ".join(f"{k} {val}" for k, val in json.loads(v).items()))
     lines.append("")
 
+    grid_file = bench_dir / "grid.yaml"
+    targets = _targets(grid_file) if grid_file.is_file() else ()
     lines += ["## Final success rate", ""]
     lines += ["| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |", "|---|---|---|---|---:|---:|---|---|---|"]
     for task, groups in by_task.items():
@@ -171,21 +96,20 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
                 f"[{_fmt(lo)}, {_fmt(hi)}] | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
             )
     lines.append("")
+    for task, groups in by_task.items():
+        if len(groups) > 1:
+            fig = plot_final(task, groups, out, _task_targets(targets, task))
+            lines += [f"![{task} final success per setting]({fig.name})", ""]
 
-    grid_file = bench_dir / "grid.yaml"
-    targets: tuple = ()
     if grid_file.is_file():
-        import yaml
+        from .benchmark import benchmark_table
 
-        from .benchmark import benchmark_table, parse_targets
-
-        targets = parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
         lines += ["## Benchmark table", ""]
         lines += benchmark_table(rows, targets, bootstrap_ci)
 
     lines += ["## Success against environment steps", ""]
     for task, groups in by_task.items():
-        fig = plot_task(task, groups, out, {t.action_mode: t.success for t in targets if t.task == task})
+        fig = plot_task(task, groups, out, _task_targets(targets, task))
         lines += [f"![{task}]({fig.name})", ""]
     lines += _training_section(by_task, bench_dir / "runs", out)
 
@@ -242,6 +166,19 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def _targets(grid_file: Path) -> tuple:
+    """The benchmark targets of the grid the results came from."""
+    import yaml
+
+    from .benchmark import parse_targets
+
+    return parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
+
+
+def _task_targets(targets: tuple, task: str) -> dict[str, float]:
+    return {t.action_mode: t.success for t in targets if t.task == task}
 
 
 def _training_section(by_task: dict, runs_dir: Path, out: Path) -> list[str]:

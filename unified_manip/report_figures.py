@@ -1,0 +1,117 @@
+"""The report's figures: success against steps per task, and final success per setting.
+
+A *group* is what :func:`unified_manip.report._group` gives for one task: ``(algo,
+action mode, reward) -> runs`` (result rows, one per seed). Intervals are the 95%
+percentile bootstrap over seeds of :mod:`unified_manip.stats`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from .stats import bootstrap_ci
+
+#: Order of a setting's parts in its label: what a reader compares first.
+_PARTS = ("action mode", "reward", "algo")
+
+
+class Bar(NamedTuple):
+    """One setting's final success over seeds, as drawn by :func:`plot_final`."""
+
+    label: str
+    mean: float
+    low: float  # 95% bootstrap interval; NaN with one seed
+    high: float
+    values: tuple[float, ...]  # per seed, in seed order
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _curve_band(runs: list[dict[str, Any]]):
+    """Common eval steps, mean success and a 95% bootstrap band over seeds."""
+    steps = sorted(set.intersection(*(set(t for t, _ in r["curve"]) for r in runs)))
+    table = np.array([[dict(map(tuple, r["curve"]))[t] for t in steps] for r in runs], dtype=float)
+    mean = table.mean(axis=0)
+    low, high = np.full_like(mean, np.nan), np.full_like(mean, np.nan)
+    if len(runs) >= 2:
+        for i in range(len(steps)):
+            low[i], high[i] = bootstrap_ci(table[:, i].tolist(), seed=i)
+    return np.array(steps), mean, low, high
+
+
+def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
+    """Success against steps, one line per setting; ``targets`` (action mode -> success)
+    are drawn as dashed lines."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
+    for (algo, mode, reward), runs in sorted(groups.items()):
+        steps, mean, low, high = _curve_band(runs)
+        line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
+        if np.isfinite(low).any():
+            ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
+    for mode, level in sorted((targets or {}).items()):
+        ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=f"target, {mode}: {level:.2f}")
+    ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
+    ax.set_xlabel("environment steps")
+    ax.set_ylabel("success rate")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    path = out / f"{task.split('/')[-1]}_success.png"
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def final_bars(groups: dict) -> list[Bar]:
+    """Each setting's final success, best mean first; labels name only the parts of the
+    settings that differ (all of them if none does)."""
+    keys = {key: (key[1], key[2], key[0]) for key in groups}  # (mode, reward, algo)
+    varying = [i for i in range(len(_PARTS)) if len({k[i] for k in keys.values()}) > 1] or list(range(len(_PARTS)))
+    bars = []
+    for key, runs in groups.items():
+        values = tuple(r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"]))
+        low, high = bootstrap_ci(list(values))
+        label = " / ".join(keys[key][i] for i in varying)
+        bars.append(Bar(label, float(np.mean(values)), low, high, values))
+    return sorted(bars, key=lambda b: (-b.mean, b.label))
+
+
+def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
+    """Final success per setting as horizontal bars (mean over seeds, 95% bootstrap
+    interval, each seed a dot), best on top; one dashed line per target."""
+    plt = _pyplot()
+    bars = final_bars(groups)
+    fig, ax = plt.subplots(figsize=(7, 0.9 + 0.42 * len(bars)), dpi=110)
+    y = np.arange(len(bars))[::-1]
+    means = np.array([b.mean for b in bars])
+    err = np.array([[b.mean - b.low, b.high - b.mean] for b in bars]).T
+    ax.barh(y, means, color="C0", alpha=0.55, xerr=np.nan_to_num(err), capsize=3, error_kw={"linewidth": 1})
+    for yi, b in zip(y, bars):
+        ax.plot(b.values, np.full(len(b.values), yi), "o", color="k", ms=3)
+        ax.text(1.03, yi, f"{b.mean:.2f}", va="center", fontsize=8)
+    for mode, level in sorted((targets or {}).items()):
+        ax.axvline(level, color="0.4", linestyle="--", linewidth=1)
+        ax.text(level, 1.0, f"target, {mode}: {level:.2f}", transform=ax.get_xaxis_transform(), ha="center",
+                va="bottom", fontsize=7, color="0.3")
+    ax.set_yticks(y, [f"{b.label} (n={len(b.values)})" for b in bars], fontsize=8)
+    ax.set_xlim(0, 1.1)
+    ax.set_xlabel("final success rate (bar: mean over seeds, whisker: 95% bootstrap CI, dots: seeds)", fontsize=8)
+    ax.set_title(f"{task}: final evaluation success per setting", fontsize=9, pad=14 if targets else 6)
+    ax.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    path = out / f"{task.split('/')[-1]}_final.png"
+    fig.savefig(path)
+    plt.close(fig)
+    return path
