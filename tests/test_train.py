@@ -131,7 +131,8 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     from stable_baselines3.common.save_util import load_from_pkl
 
     run_dir = tmp_path / "run"
-    args = train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 1000, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
+    args = train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 1000, run_dir,
+                      ["checkpoint_freq=200", "eval_freq=200", "n_eval_episodes=2"])
     if how == "interrupt":  # Ctrl-C in a terminal reaches the env worker processes too
         args += ["--n-envs", "2", "--vec", "subproc"]
     # The child inherits this worker's signal dispositions; SIG_IGN for SIGINT (as after
@@ -157,8 +158,14 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
         assert written.digests[checkpoints.REPLAY_BUFFER]["rows"] * 2 == checkpoint == status["num_timesteps"]
     assert not (run_dir / "final_model.zip").exists()
 
-    resumed = cli(*args)
-    assert f"resuming from step {checkpoint} of 1000" in resumed.stdout
+    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    # Checkpoints keep the uninterrupted schedule (every 200 steps), whatever step the
+    # run resumed from.
+    assert _wait_for_checkpoint(run_dir, checkpoint + 1, proc) % 200 == 0
+    out, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    assert f"resuming from step {checkpoint} of 1000" in out
     status = json.loads((run_dir / "status.json").read_text())
     assert status["state"] == "finished" and status["num_timesteps"] == 1000
     buffer = load_from_pkl(run_dir / "replay_buffer.pkl")
@@ -168,6 +175,8 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     # only the ones after the resume.
     stats = load_from_pkl(run_dir / "vecnormalize.pkl")
     assert stats.obs_rms["observation"].count >= 1000
+    # So do the evaluations, the last one at the budget.
+    assert np.load(run_dir / "eval" / "evaluations.npz")["timesteps"].tolist() == [200, 400, 600, 800, 1000]
     # A second run of the same command leaves the finished run alone.
     again = cli(*args)
     assert "already finished at 1000 steps" in again.stdout

@@ -95,7 +95,9 @@ class Checkpoint(BaseCallback):
         return True
 
     def _on_rollout_end(self) -> None:
-        if self.num_timesteps - self.last >= self.freq:
+        # At the first rollout end past each multiple of freq: a resumed run keeps the
+        # schedule of an uninterrupted one (10k, 20k, ...), not one shifted by its resume step.
+        if self.num_timesteps // self.freq > self.last // self.freq:
             checkpoints.write(self.model, self.run_dir, self.off_policy)
             write_status(self.run_dir, state="running", num_timesteps=int(self.num_timesteps), wall_time_s=self.elapsed())
             self.last = self.num_timesteps
@@ -236,6 +238,10 @@ def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, 
     )
     if resumed_at:
         resume_evaluations(evaluation, run_dir / "eval" / "evaluations.npz", resumed_at)
+        # EvalCallback evaluates when its call count is a multiple of eval_freq; counting
+        # on from the resume step keeps the evaluation points of an uninterrupted run, the
+        # last one at the budget.
+        evaluation.n_calls = resumed_at // max(n_envs, 1)
     return CallbackList([
         *([stop] if stop is not None else []),
         RewardTerms(scales),
