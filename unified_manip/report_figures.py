@@ -37,6 +37,15 @@ def _pyplot():
     return plt
 
 
+def _target_lines(targets: dict[str, float] | None) -> list[tuple[float, str]]:
+    """One line per target level (action mode -> success), labelled with its modes."""
+    modes_at: dict[float, list[str]] = {}
+    for mode, level in sorted((targets or {}).items()):
+        modes_at.setdefault(level, []).append(mode)
+    return [(level, f"target {level:.2f}, " + (", ".join(modes) if len(modes) <= 2 else f"{len(modes)} modes"))
+            for level, modes in sorted(modes_at.items())]
+
+
 def _curve_band(runs: list[dict[str, Any]]):
     """Common eval steps, mean success and a 95% bootstrap band over seeds."""
     steps = sorted(set.intersection(*(set(t for t, _ in r["curve"]) for r in runs)))
@@ -59,8 +68,8 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
         line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
         if np.isfinite(low).any():
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
-    for mode, level in sorted((targets or {}).items()):
-        ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=f"target, {mode}: {level:.2f}")
+    for level, label in _target_lines(targets):
+        ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=label)
     ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
     ax.set_xlabel("environment steps")
     ax.set_ylabel("success rate")
@@ -101,10 +110,9 @@ def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | N
     for yi, b in zip(y, bars):
         ax.plot(b.values, np.full(len(b.values), yi), "o", color="k", ms=3)
         ax.text(1.03, yi, f"{b.mean:.2f}", va="center", fontsize=8)
-    for mode, level in sorted((targets or {}).items()):
+    for level, label in _target_lines(targets):
         ax.axvline(level, color="0.4", linestyle="--", linewidth=1)
-        ax.text(level, 1.0, f"target, {mode}: {level:.2f}", transform=ax.get_xaxis_transform(), ha="center",
-                va="bottom", fontsize=7, color="0.3")
+        ax.text(level, 1.0, label, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7, color="0.3")
     ax.set_yticks(y, [f"{b.label} (n={len(b.values)})" for b in bars], fontsize=8)
     ax.set_xlim(0, 1.1)
     ax.set_xlabel("final success rate (bar: mean over seeds, whisker: 95% bootstrap CI, dots: seeds)", fontsize=8)
