@@ -28,6 +28,7 @@ DEFAULT_TASKS = (
     ("UnifiedManip/Arm4Push-v1", "ee_delta"),
     ("UnifiedManip/FetchPush-v0", "native"),
     ("UnifiedManip/Arm4PickAndPlace-v0", "ee_delta"),
+    ("UnifiedManip/Arm4PickAndPlace-v1", "ee_delta"),
     ("UnifiedManip/FetchPickAndPlace-v0", "native"),
 )
 
