@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -37,6 +38,11 @@ TINY = {
 }
 
 
+def cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True,
+                          timeout=300, cwd=ROOT)
+
+
 def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
     path = tmp_path / name
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
@@ -66,6 +72,19 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
     # A second bench skips every finished run.
     again = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
     assert again["finished"] == 4 and again["wall_time_s"] < 5
+    # --collect: finished runs copied into another bench directory give its results.csv
+    # the same rows, and no run starts (the two missing ones stay missing).
+    other = tmp_path / "other"
+    for row in rows[:2]:
+        shutil.copytree(tmp_path / "out" / "runs" / row["run"], other / "runs" / row["run"])
+    done = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--no-progress")
+    assert done.returncode == 0 and "2/4 runs finished, 0 failed" in done.stdout, done.stderr
+    assert {r["run"]: r for r in read_results(other / "results.csv")} == {r["run"]: r for r in rows[:2]}
+    assert sorted(p.name for p in (other / "runs").iterdir()) == sorted(r["run"] for r in rows[:2])
+    assert not (other / "command.txt").exists()
+    both = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--only", "seed=0")
+    assert both.returncode == 2 and both.stderr.strip() == (
+        "unified-manip bench: error: --only chooses runs to train and --collect trains none; give one or the other")
 
 
 def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):

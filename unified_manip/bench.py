@@ -166,14 +166,20 @@ def run_grid(
     on_event: Callable[[str, RunSpec], None] | None = None,
     device: str | None = None,
     select: tuple[str, ...] = (),
+    collect: bool = False,
 ) -> dict[str, Any]:
     """Run every run of ``grid`` that is not finished yet; return a summary.
 
     ``device`` (auto, cpu or cuda) applies to every run; it is checked here, before any
-    run starts, so ``cuda`` without a GPU fails once and not once per run.
+    run starts, so ``cuda`` without a GPU fails once and not once per run. With
+    ``collect``, no run starts: ``results.csv`` is written from the finished runs in
+    ``out_dir/runs`` (copied in from another bench directory, say), and ``command.txt``,
+    the command that trained them, is left as it is.
 
     Raises :class:`~unified_manip.runlock.DirectoryInUse` if another bench owns ``out_dir``.
     """
+    if collect and select:
+        raise GridError("--only chooses runs to train and --collect trains none; give one or the other")
     if device is not None:
         from .devices import DeviceError, resolve_device
 
@@ -183,8 +189,8 @@ def run_grid(
             raise GridError(str(err)) from None
     out_dir = Path(out_dir).resolve()
     with DirectoryLock(out_dir, "bench directory"):
-        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, command, on_event, device,
-                          selected(grid, select))
+        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, None if collect else command,
+                          on_event, device, set() if collect else selected(grid, select))
 
 
 def _run_owned(grid: Grid, out_dir: Path, executor: str, workers: int | None, address: str | None, retries: int,

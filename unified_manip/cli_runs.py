@@ -61,6 +61,9 @@ def add_commands(sub) -> None:
     p.add_argument("--only", action="append", metavar="KEY=VALUE",
                    help="train only the runs matching this (task, action_mode, reward_type, algo or seed; repeatable: "
                         "values of one key are alternatives, keys must all match); results keep every finished run")
+    p.add_argument("--collect", action="store_true",
+                   help="start no run: write results.csv from the finished runs in --out (e.g. copied in from another "
+                        "bench directory)")
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=cmd_bench)
 
@@ -139,6 +142,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
             command=shlex.join(["unified-manip", *sys.argv[1:]]),
             device=args.device,
             select=tuple(args.only or ()),
+            collect=args.collect,
         )
     except KeyboardInterrupt:
         # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
