@@ -70,6 +70,18 @@ def test_prefill_stores_whole_scripted_episodes_consistent_with_the_reward(task_
     venv.close()
 
 
+def test_action_noise_measures_how_much_each_mode_disturbs_the_scripted_policy():
+    """``python -m unified_manip.exploration --noise``: without noise it is the
+    demonstrations' own success; the same small noise that joint_delta shrugs off (its
+    step scales it) breaks joint_position, where it moves the absolute target."""
+    from unified_manip.exploration import noisy_demonstrations
+
+    assert noisy_demonstrations(ARM, "joint_delta", 0.0, episodes=3) == 1.0
+    assert noisy_demonstrations(ARM, "joint_delta", 0.1, episodes=3) == 1.0
+    assert noisy_demonstrations(ARM, "joint_position", 0.0, episodes=3) == 1.0
+    assert noisy_demonstrations(ARM, "joint_position", 0.1, episodes=3) == 0.0
+
+
 @pytest.mark.parametrize("mode", unified_manip.TASKS[ARM].action_modes)
 def test_the_scripted_policy_solves_pick_and_place_in_every_arm_mode(mode):
     """Demonstrations in every action mode (issue 10, item 5): the ee_delta policy's

@@ -97,11 +97,59 @@ def measure(task_id: str, action_mode: str, episodes: int = 200, moved: float = 
                        final / episodes, moves / episodes, float(np.mean(disp)), per_step, per_step / dt)
 
 
+def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes: int = 20, seed: int = 0) -> float:
+    """Success of the task's scripted policy, played in ``action_mode`` as demonstrations
+    are (:mod:`unified_manip.controllers.translate`), with Gaussian noise of std ``sigma``
+    added to every action in that mode's own units (then clipped to ``[-1, 1]``): how
+    much the same exploration noise disturbs a good policy in each mode."""
+    import gymnasium as gym
+
+    import unified_manip  # noqa: F401
+    from unified_manip.controllers.translate import EEDeltaInMode
+    from unified_manip.registry import get_task
+
+    spec = get_task(task_id)
+    scripted = spec.scripted_policy("ee_delta")
+    env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
+    translate = None if action_mode == "ee_delta" else EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+    noise = np.random.default_rng(seed)
+    successes = 0
+    for ep in range(episodes):
+        obs, _ = env.reset(seed=seed + ep)
+        done, info = False, {}
+        while not done:
+            action = scripted(obs) if translate is None else translate(scripted(obs))
+            action = np.clip(action + sigma * noise.standard_normal(action.shape), -1.0, 1.0).astype(np.float32)
+            obs, _, terminated, truncated, info = env.step(action)
+            done = terminated or truncated
+        successes += int(info.get("is_success", 0.0) > 0.5)
+    env.close()
+    return successes / episodes
+
+
+def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
+    from unified_manip.registry import get_task
+
+    modes = [m for m, c in get_task(task_id).controllers.items() if c.controller is not None]
+    print(f"{task_id}: success of the scripted policy with action noise ({episodes} episodes per cell)")
+    print("| action mode | " + " | ".join(f"σ = {s:g}" for s in sigmas) + " |")
+    print("|---|" + "---:|" * len(sigmas))
+    for mode in modes:
+        print(f"| {mode} | " + " | ".join(f"{noisy_demonstrations(task_id, mode, s, episodes):.2f}" for s in sigmas) + " |")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m unified_manip.exploration", description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--json", help="write the results here")
+    parser.add_argument("--noise", type=float, nargs="+", metavar="SIGMA",
+                        help="instead: the scripted policy's success in every shared action mode of --task, with "
+                             "Gaussian action noise of each std SIGMA")
+    parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", help="the task of --noise")
     args = parser.parse_args(argv)
+    if args.noise:
+        _noise_table(args.task, args.noise, args.episodes)
+        return 0
     rows = [measure(t, m, args.episodes) for t, m in DEFAULT_TASKS]
     print("| task | mode | steps x dt | chance success | random success | object moved > 2 cm | "
           "mean object displacement | gripper cm/step | gripper cm/s |")
