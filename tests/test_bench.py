@@ -207,6 +207,9 @@ def test_committed_grids_are_valid():
     for path in sorted((ROOT / "baselines" / "grids").glob("*.yaml")):
         grid = load_grid(path)
         assert len(grid.runs) > 0 and len({r.seed for r in grid.runs}) >= 3
+    # Recipe grids (one seed, to establish a recipe) load and type-check too.
+    recipes = sorted((ROOT / "baselines" / "grids" / "recipes").glob("*.yaml"))
+    assert len(recipes) >= 6 and all(load_grid(path).runs for path in recipes)
 
 
 # ---------------------------------------------------------------------- report
