@@ -44,30 +44,43 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     spec = get_task(task_id)
     if spec.scripted_policy is None:
         raise DemonstrationError(f"{task_id} has no scripted policy to demonstrate with")
-    if action_mode != "ee_delta" and spec.controllers[action_mode].controller is None:
+    if action_mode not in demonstrable_modes(task_id):
         raise DemonstrationError(
             f"demonstrations: {task_id}'s action_mode {action_mode!r} is the source's own controller, which the "
-            f"scripted ee_delta policy cannot drive; use one of "
-            f"{', '.join(m for m, c in spec.controllers.items() if c.controller is not None)}"
+            f"scripted ee_delta policy cannot drive; use one of {', '.join(demonstrable_modes(task_id))}"
         )
 
 
-def policies(task_id: str, action_mode: str, venv) -> list:
-    """One ``obs -> action`` per env of ``venv`` (a ``DummyVecEnv``): the task's scripted
-    ``ee_delta`` policy, its actions played in ``action_mode`` through
-    :class:`~unified_manip.controllers.translate.EEDeltaInMode` on each env's own rig."""
+def demonstrable_modes(task_id: str) -> list[str]:
+    """The action modes of ``task_id`` that its scripted policy can play: those of the
+    shared controllers (not a source's own ``native``)."""
+    from .registry import get_task
+
+    return [mode for mode, config in get_task(task_id).controllers.items() if config.controller is not None]
+
+
+def policy(task_id: str, action_mode: str, env):
+    """``obs -> action`` for ``env`` (a gymnasium env of ``task_id`` in ``action_mode``;
+    unused in ``ee_delta``): the task's scripted ``ee_delta`` policy, its actions played in
+    ``action_mode`` through :class:`~unified_manip.controllers.translate.EEDeltaInMode` on
+    the env's own rig."""
     from .controllers.translate import EEDeltaInMode
     from .registry import get_task
 
     spec = get_task(task_id)
     scripted = spec.scripted_policy("ee_delta")
     if action_mode == "ee_delta":
-        return [scripted] * venv.num_envs
-    out = []
-    for env in venv.envs:
-        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
-        out.append(lambda obs, translate=translate: translate(scripted(obs)))
-    return out
+        return scripted
+    translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+    return lambda obs: translate(scripted(obs))
+
+
+def policies(task_id: str, action_mode: str, venv) -> list:
+    """One :func:`policy` per env of ``venv`` (a ``DummyVecEnv``; in ``ee_delta``, which
+    needs no env's rig, any vector env)."""
+    if action_mode == "ee_delta":
+        return [policy(task_id, action_mode, None)] * venv.num_envs
+    return [policy(task_id, action_mode, env) for env in venv.envs]
 
 
 def episodes_per_env(episodes: int, n_envs: int) -> int:

@@ -105,20 +105,17 @@ def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes:
     import gymnasium as gym
 
     import unified_manip  # noqa: F401
-    from unified_manip.controllers.translate import EEDeltaInMode
-    from unified_manip.registry import get_task
+    from unified_manip.demonstrations import policy
 
-    spec = get_task(task_id)
-    scripted = spec.scripted_policy("ee_delta")
     env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
-    translate = None if action_mode == "ee_delta" else EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+    act = policy(task_id, action_mode, env)
     noise = np.random.default_rng(seed)
     successes = 0
     for ep in range(episodes):
         obs, _ = env.reset(seed=seed + ep)
         done, info = False, {}
         while not done:
-            action = scripted(obs) if translate is None else translate(scripted(obs))
+            action = act(obs)
             action = np.clip(action + sigma * noise.standard_normal(action.shape), -1.0, 1.0).astype(np.float32)
             obs, _, terminated, truncated, info = env.step(action)
             done = terminated or truncated
@@ -128,9 +125,9 @@ def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes:
 
 
 def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
-    from unified_manip.registry import get_task
+    from unified_manip.demonstrations import demonstrable_modes
 
-    modes = [m for m, c in get_task(task_id).controllers.items() if c.controller is not None]
+    modes = demonstrable_modes(task_id)
     print(f"{task_id}: success of the scripted policy with action noise ({episodes} episodes per cell)")
     print("| action mode | " + " | ".join(f"σ = {s:g}" for s in sigmas) + " |")
     print("|---|" + "---:|" * len(sigmas))

@@ -14,8 +14,9 @@ import numpy as np
 
 from .stats import bootstrap_ci
 
-#: Order of a setting's parts in its label: what a reader compares first.
-_PARTS = ("action mode", "reward", "algo")
+#: A group key is (algo, action mode, reward); labels name its parts in this order of
+#: the key's indices (action mode, reward, algo): what a reader compares first.
+_LABEL_ORDER = (1, 2, 0)
 
 
 class Bar(NamedTuple):
@@ -86,13 +87,12 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
 def final_bars(groups: dict) -> list[Bar]:
     """Each setting's final success, best mean first; labels name only the parts of the
     settings that differ (all of them if none does)."""
-    keys = {key: (key[1], key[2], key[0]) for key in groups}  # (mode, reward, algo)
-    varying = [i for i in range(len(_PARTS)) if len({k[i] for k in keys.values()}) > 1] or list(range(len(_PARTS)))
+    varying = [i for i in _LABEL_ORDER if len({key[i] for key in groups}) > 1] or list(_LABEL_ORDER)
     bars = []
     for key, runs in groups.items():
         values = tuple(r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"]))
         low, high = bootstrap_ci(list(values))
-        label = " / ".join(keys[key][i] for i in varying)
+        label = " / ".join(key[i] for i in varying)
         bars.append(Bar(label, float(np.mean(values)), low, high, values))
     return sorted(bars, key=lambda b: (-b.mean, b.label))
 

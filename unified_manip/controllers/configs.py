@@ -13,6 +13,7 @@ Every config describes itself in one line (:meth:`ControllerConfig.describe`): t
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -46,7 +47,7 @@ def _metres(value: float) -> str:
 
 
 @dataclass(frozen=True)
-class ControllerConfig:
+class ControllerConfig(ABC):
     """Base of the action-mode configs.
 
     Class attributes:
@@ -67,9 +68,9 @@ class ControllerConfig:
             raise ValueError(f"{type(self).__name__} is the family's own controller; the backend drives it")
         return resolve(self.controller)(self, rig)
 
+    @abstractmethod
     def describe(self) -> str:
         """What the arm part of the action means, in one line."""
-        raise NotImplementedError
 
 
 @dataclass(frozen=True)
