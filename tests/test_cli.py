@@ -65,7 +65,8 @@ def test_speed_reports_env_and_raw_rates(tmp_path):
 
 def test_demo_writes_a_picture_strip(tmp_path):
     out = tmp_path / "strip.png"
-    proc = run("demo", "--out", str(out), "--frames", "3", "--size", "64")
+    proc = run("demo", "--out", str(out), "--frames", "3", "--size", "64", "--no-progress")
+    assert "demo:" not in proc.stderr  # no progress bar, as train and bench with --no-progress
     image = iio.imread(out)
     ids = [t for t, s in unified_manip.TASKS.items() if s.scripted_policy]
     assert image.shape == (64 * len(ids), 64 * 3, 3)

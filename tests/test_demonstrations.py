@@ -185,6 +185,38 @@ def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
+def test_ctrl_c_while_demonstrations_play_stops_the_run_with_them_checkpointed(tmp_path):
+    """A bench worker ignores SIGINT until train() takes it over. Ctrl-C that lands while
+    the demonstrations play (or a checkpoint loads) stops the run before its first
+    rollout, with a whole checkpoint that keeps the demonstrations; it was once lost, and
+    the run trained on to its end."""
+    import os
+    import signal
+
+    run = tmp_path / "run"
+
+    def interrupt_once_demonstrated(line: str) -> None:
+        if "demonstration episodes" in line:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # as in a bench worker
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            train(_request(run), progress=False, threads=1, log=interrupt_once_demonstrated)
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN  # train() put the caller's handler back
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    status = json.loads((run / "status.json").read_text())
+    assert (status["state"], status["num_timesteps"]) == ("running", 0)
+    written = checkpoints.newest(run)
+    assert written.step == 0 and written.digests[checkpoints.REPLAY_BUFFER]["rows"] == 200
+    again: list[str] = []
+    train(_request(run), progress=False, threads=1, log=again.append)
+    assert not any("demonstration episodes" in line for line in again)
+    assert any("resuming from step 0 of 300 on cpu with 200 transitions" in line for line in again), again
+    assert _buffer_rows(run / "replay_buffer.pkl") == 500
+
+
 @pytest.mark.parametrize(
     "algo,task_id,mode,episodes,message",
     [

@@ -91,7 +91,8 @@ def cmd_speed(args: argparse.Namespace) -> int:
 def cmd_demo(args: argparse.Namespace) -> int:
     from . import demo
 
-    successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env)
+    successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env,
+                         progress=not args.no_progress)
     for tid, ok in successes.items():
         print(f"{tid}: {'success' if ok else 'failure'}")
     print(f"wrote {args.out}")
@@ -127,6 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--frames", type=positive_int, default=6, help="pictures per task")
     p.add_argument("--size", type=positive_int, default=200, help="picture size in pixels")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (on stderr), as train and bench")
     p.set_defaults(func=cmd_demo)
     return parser
 

@@ -44,10 +44,11 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     spec = get_task(task_id)
     if spec.scripted_policy is None:
         raise DemonstrationError(f"{task_id} has no scripted policy to demonstrate with")
-    if action_mode not in demonstrable_modes(task_id):
+    modes = demonstrable_modes(task_id)
+    if action_mode not in modes:
         raise DemonstrationError(
             f"demonstrations: {task_id}'s action_mode {action_mode!r} is the source's own controller, which the "
-            f"scripted ee_delta policy cannot drive; use one of {', '.join(demonstrable_modes(task_id))}"
+            f"scripted ee_delta policy cannot drive; use one of {', '.join(modes)}"
         )
 
 

@@ -127,6 +127,15 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             checkpoints.restore_replay_buffer(model, ckpt)
         return model
 
+    # Ctrl-C and kill both end in a checkpoint, written where it is whole (see
+    # StopOnSignal). The handlers go in before the model is loaded or built: a signal
+    # during a long load or the demonstrations' prefill stops the run at its first rollout
+    # (a bench worker ignores SIGINT until here, so it was lost). SIGINT is set
+    # explicitly: a process started in the background (or by a parent that ignores it)
+    # inherits SIG_IGN.
+    stop = StopOnSignal()
+    previous_term = signal.signal(signal.SIGTERM, stop.request)
+    previous_int = signal.signal(signal.SIGINT, stop.request)
     try:
         if candidates:
             try:
@@ -148,15 +157,9 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
-        stop = StopOnSignal()
         callbacks = make_callbacks(req.steps, run_dir, params, eval_env, algo.off_policy, progress, _reward_scales(req),
                                    elapsed=lambda: elapsed_before + time.time() - started,
                                    resumed_at=int(model.num_timesteps), n_envs=n_envs, stop=stop)
-        # Ctrl-C and kill both end in a checkpoint, written where it is whole (see
-        # StopOnSignal). SIGINT is set explicitly: a process started in the background (or
-        # by a parent that ignores it) inherits SIG_IGN.
-        previous_handler = signal.signal(signal.SIGTERM, stop.request)
-        previous_int = signal.signal(signal.SIGINT, stop.request)
         try:
             if remaining > 0:
                 model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
@@ -174,9 +177,6 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
                 log(f"{run_dir}: stopped at once at step {model.num_timesteps}, without a checkpoint; run the same "
                     f"command again to resume from step {read_status(run_dir)['num_timesteps']}")
             raise
-        finally:
-            signal.signal(signal.SIGTERM, previous_handler)
-            signal.signal(signal.SIGINT, previous_int)
         rundir.write_final(run_dir, model, algo.off_policy)
         final = {
             "state": "finished",
@@ -189,6 +189,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         log(f"{run_dir}: finished {model.num_timesteps} steps")
         return read_status(run_dir)
     finally:
+        signal.signal(signal.SIGTERM, previous_term)
+        signal.signal(signal.SIGINT, previous_int)
         raw_env.close()
         eval_env.close()
 

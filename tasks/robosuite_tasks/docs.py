@@ -75,7 +75,8 @@ Goal (3,): achieved = cube A centre, desired = top of cube B at reset, m.
 Native success (robosuite): A lifted, touching B and not grasped. Differences by
 design: is_success does not require the gripper to let go, and is measured against
 B's position at reset (if B is pushed away the goal stays); native success needs
-contact with B wherever B is.
+contact with B wherever B is. The scripted ee_delta policy grasps A, raises it 4 cm
+over B's top and holds it there, so it meets is_success and not native success.
 
 {_MODES}
 {_OPTIONS}

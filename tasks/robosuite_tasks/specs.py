@@ -8,7 +8,7 @@ from unified_manip.registry import TaskSpec
 from ..scripted import EEDeltaPolicy
 from .controllers import CONTROLLERS
 from .docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
-from .policies import can_policy, door_policy, lift_policy
+from .policies import can_policy, door_policy, lift_policy, stack_policy
 
 _PACKAGE = "unified_manip.tasks.robosuite_tasks"
 
@@ -38,7 +38,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     )
     for name, shaping, goal_dim, steps, threshold, doc, policy, min_success in (
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
-        ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, None, None),
+        ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, stack_policy, 0.8),
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
         ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
         ("Door", "push", 1, 150, 0.05, DOOR_DOC, door_policy, 0.8),
