@@ -199,8 +199,12 @@ def test_malformed_grids_give_exact_errors(tmp_path, change, message):
 def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
     """None reaches train, which takes the file's n_envs (else 1); a grid's own wins."""
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, TINY)).runs} == {None}
-    grid = load_grid(write_grid(tmp_path, {**TINY, "n_envs": {"sac_her": 3}}))
-    assert {r.n_envs for r in grid.runs} == {3}
+    three = {**TINY, "n_envs": {"sac_her": 3}}
+    with pytest.raises(GridError, match=r"learning_starts=50 starts training at step 51, before the first episodes end "
+                                        r"at step 150 \(3 envs x 50 steps\)"):
+        load_grid(write_grid(tmp_path, three))  # checked with the grid's n_envs, before any run starts
+    three["overrides"] = {"sac_her": [*TINY["overrides"]["sac_her"], "learning_starts=150"]}
+    assert {r.n_envs for r in load_grid(write_grid(tmp_path, three)).runs} == {3}
 
 
 def test_committed_grids_are_valid():

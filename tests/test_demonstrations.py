@@ -217,6 +217,26 @@ def test_ctrl_c_while_demonstrations_play_stops_the_run_with_them_checkpointed(t
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
+def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controller(tmp_path):
+    """tqc_her.yaml gives Lift-v0 100 demonstrations (test_train checks the resolved
+    entries), and its "Lift-v0 native" entry takes them out again, as no scripted policy
+    plays robosuite's own controller: with no --set, a native run trains without them
+    instead of being refused."""
+    import yaml
+
+    run = tmp_path / "run"
+    settings = ("n_envs=1", "learning_starts=1000", "buffer_size=2000", "eval_freq=1000", "n_eval_episodes=1",
+                "checkpoint_freq=1000")
+    logs: list[str] = []
+    status = train(TrainRequest(env="UnifiedManip/Lift-v0", action_mode="native", reward_type="sparse", algo="tqc_her",
+                                steps=20, run_dir=run, overrides=settings), progress=False, threads=1, log=logs.append)
+    assert status["state"] == "finished"
+    config = yaml.safe_load((run / "config.yaml").read_text())
+    assert config["hyperparameters"]["demonstrations"] == 0
+    assert not (run / "demonstrations.json").exists()
+    assert not any("demonstration episodes" in line for line in logs), logs
+
+
 @pytest.mark.parametrize(
     "algo,task_id,mode,episodes,message",
     [

@@ -26,11 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 # Small settings so 300 steps exercise learning, evaluation and checkpoints.
 SMOKE = {
     "ppo": ["n_steps=100", "batch_size=50", "n_epochs=2"],
-    "sac": ["learning_starts=100", "batch_size=64"],
-    "td3": ["learning_starts=100", "batch_size=64"],
-    "sac_her": ["learning_starts=100", "batch_size=64"],
-    "tqc_her": ["learning_starts=100", "batch_size=64"],
-    "crossq_her": ["learning_starts=100", "batch_size=64", "policy_kwargs.net_arch.qf=[64, 64]"],
+    "sac": ["learning_starts=100", "batch_size=64", "buffer_size=10000"],
+    "td3": ["learning_starts=100", "batch_size=64", "buffer_size=10000"],
+    "sac_her": ["learning_starts=100", "batch_size=64", "buffer_size=10000"],
+    "tqc_her": ["learning_starts=100", "batch_size=64", "buffer_size=10000", "demonstrations=0", "n_envs=1"],
+    "crossq_her": ["learning_starts=100", "batch_size=64", "buffer_size=10000", "policy_kwargs.net_arch.qf=[64, 64]"],
 }
 RUN_SETTINGS = ["eval_freq=150", "n_eval_episodes=2", "checkpoint_freq=100"]
 
@@ -261,15 +261,70 @@ def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
         assert "dict(" not in text and "lambda " not in text and "!!python" not in text
         params = resolve(algo, "UnifiedManip/Arm4PickAndPlace-v0")
         assert params["policy"] == "MultiInputPolicy"
-    # The anchor shares the CPU recipe (8 envs, net [256]*3) between Fetch and arm object tasks.
-    assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0") == resolve("tqc_her", "UnifiedManip/FetchPush-v0")
+    # The anchor shares the CPU recipe (8 envs, net [256]*3) between Fetch and the arm's and
+    # robosuite's object tasks, which add 100 scripted demonstrations (not in robosuite's
+    # own controller, which no scripted policy plays).
     recipe = resolve("tqc_her", "UnifiedManip/FetchPush-v0")
+    assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0") == {**recipe, "demonstrations": 100}
+    assert resolve("tqc_her", "UnifiedManip/Lift-v0", action_mode="joint_delta") == {**recipe, "demonstrations": 100}
+    assert resolve("tqc_her", "UnifiedManip/Lift-v0", action_mode="native") == {**recipe, "demonstrations": 0,
+                                                                                 "learning_starts": 2000}
+    assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0", ("demonstrations=0",))["demonstrations"] == 0
     assert recipe["policy_kwargs"] == {"net_arch": [256, 256, 256], "n_critics": 2}
     assert (recipe["n_envs"], recipe["gradient_steps"], recipe["batch_size"]) == (8, 2, 512)
     assert "n_envs" not in resolve("tqc_her", "UnifiedManip/FetchReach-v0")
     with pytest.raises(HyperparameterError, match="buffer_size must be int, got float"):
         resolve("sac", "UnifiedManip/Arm4Reach-v0", ("buffer_size=1.5",))
     assert resolve("sac", "UnifiedManip/Arm4Reach-v0", ("learning_rate=3e-4",))["learning_rate"] == 3e-4
+
+
+@pytest.mark.parametrize("key", ["UnifiedManip/Lift-v9", "UnifiedManip/Lift-v0 nativ", "Lift-v0 native"])
+def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
+    """A misspelt entry would otherwise be ignored and the default trained in its place."""
+    (tmp_path / "sac.yaml").write_text(f"# Source: test\ndefault: {{policy: MultiInputPolicy}}\n'{key}': {{batch_size: 64}}\n")
+    with pytest.raises(HyperparameterError, match=f"sac.yaml:3: entry '{key}' names no registered task; expected "):
+        resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="native")
+    (tmp_path / "sac.yaml").write_text("default: {policy: MultiInputPolicy}\n'UnifiedManip/Lift-v0 native': {batch_size: 64}\n")
+    assert resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="native")["batch_size"] == 64
+    assert "batch_size" not in resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="ee_delta")
+
+
+@pytest.mark.parametrize("algo", list(ALGOS))
+def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
+    """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
+    task without one), so ``train --algo ALGO`` works with the defaults on every ID x mode."""
+    import gymnasium as gym
+
+    from unified_manip.demonstrations import check
+    from unified_manip.hyperparams import check_her_warmup, get_algo
+
+    for task_id, spec in unified_manip.TASKS.items():
+        for mode in spec.action_modes:
+            params = resolve(algo, task_id, action_mode=mode)
+            check(task_id, mode, get_algo(algo).off_policy, params.get("demonstrations", 0))
+            check_her_warmup(algo, params, params.get("n_envs", 1), gym.spec(task_id).max_episode_steps)
+
+
+def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_2(tmp_path):
+    """8 envs x 200 steps of Stack-v0: HER has no finished episode to sample goals from
+    before step 1600, and SB3 would stop the run there with a traceback."""
+    args = ["train", "--env", "UnifiedManip/Stack-v0", "--action-mode", "ee_delta", "--algo", "tqc_her", "--steps", "10",
+            "--no-progress",
+            "--run-dir", str(tmp_path / "run"), "--set", "demonstrations=0"]
+    proc = cli(*args, check=False)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.strip() == (
+        "unified-manip train: error: learning_starts=1000 starts training at step 1008, before the first episodes end "
+        "at step 1600 (8 envs x 200 steps), and HER samples goals from finished episodes only; set learning_starts to "
+        "1600 or more, or add demonstrations"
+    )
+    from unified_manip.hyperparams import check_her_warmup
+
+    check_her_warmup("tqc_her", {"learning_starts": 1592}, 8, 200)  # first update at step 1600: fine
+    with pytest.raises(HyperparameterError, match="starts training at step 1592, before the first episodes end"):
+        check_her_warmup("tqc_her", {"learning_starts": 1591}, 8, 200)
+    check_her_warmup("tqc_her", {"learning_starts": 1000, "demonstrations": 1}, 8, 200)  # finished episodes first
+    check_her_warmup("sac", {"learning_starts": 0}, 8, 200)  # no HER
 
 
 # ---------------------------------------------------------------------- rl-baselines3-zoo

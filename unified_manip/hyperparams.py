@@ -162,15 +162,38 @@ def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, 
             raise HyperparameterError(
                 f"{path}:{key_line(path, key)}: entry {key!r} must be a mapping of hyperparameters, got {type(entry).__name__}"
             )
+        if key != "default" and not _names_a_task(str(key)):
+            raise HyperparameterError(
+                f"{path}:{key_line(path, key)}: entry {key!r} names no registered task; expected 'default', a task ID "
+                f"(e.g. UnifiedManip/Arm4Reach-v0) or '<task ID> <action mode>' (e.g. 'UnifiedManip/Lift-v0 native')"
+            )
     return data
 
 
-def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), directory: Path | None = None) -> dict[str, Any]:
-    """The hyperparameters for ``task_id``: default entry, task entry, then overrides."""
+def _names_a_task(key: str) -> bool:
+    from .registry import TASKS
+
+    task_id, _, mode = key.partition(" ")
+    return task_id in TASKS and (not mode or mode in TASKS[task_id].action_modes)
+
+
+def mode_entry(task_id: str, action_mode: str) -> str:
+    """The key of the entry that holds ``task_id``'s settings for one action mode only
+    (e.g. ``"UnifiedManip/Lift-v0 native"``)."""
+    return f"{task_id} {action_mode}"
+
+
+def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), directory: Path | None = None,
+            action_mode: str | None = None) -> dict[str, Any]:
+    """The hyperparameters for ``task_id``: default entry, task entry, the task's entry for
+    ``action_mode`` (where the file has one: a recipe that holds in some modes only), then
+    overrides."""
     algo = get_algo(algo_name)
     data = load_file(algo, directory)
     params = copy.deepcopy(data["default"])
     params.update(copy.deepcopy(data.get(task_id) or {}))
+    if action_mode is not None:
+        params.update(copy.deepcopy(data.get(mode_entry(task_id, action_mode)) or {}))
     keys = valid_keys(algo)
     for key, value in params.items():
         if key not in keys:
@@ -186,6 +209,25 @@ def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), direc
     if "n_envs" in params and params["n_envs"] < 1:
         raise HyperparameterError(f"{algo.name}.yaml: n_envs must be at least 1, got {params['n_envs']!r}")
     return params
+
+
+def check_her_warmup(algo_name: str, params: dict[str, Any], n_envs: int, episode_steps: int | None) -> None:
+    """Raise :class:`HyperparameterError` if a HER run would start training before any
+    episode has ended: HER draws its goals from finished episodes, and SB3 stops the run
+    there with a traceback. The envs of a vector env end their first episodes together,
+    at step ``n_envs * episode_steps``; demonstrations put finished episodes in first."""
+    algo = get_algo(algo_name)
+    if not algo.her or params.get("demonstrations", 0) or not episode_steps:
+        return
+    starts = params.get("learning_starts", inspect.signature(algo.cls()).parameters["learning_starts"].default)
+    first_update = (starts // n_envs + 1) * n_envs  # SB3 trains once num_timesteps > learning_starts
+    first_end = n_envs * episode_steps
+    if first_update < first_end:
+        raise HyperparameterError(
+            f"learning_starts={starts} starts training at step {first_update}, before the first episodes end at step "
+            f"{first_end} ({n_envs} envs x {episode_steps} steps), and HER samples goals from finished episodes only; "
+            f"set learning_starts to {first_end} or more, or add demonstrations"
+        )
 
 
 def apply_override(params: dict[str, Any], item: str, keys: dict[str, tuple[type, ...] | None]) -> None:

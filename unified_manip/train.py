@@ -18,12 +18,13 @@ import time
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import yaml
 
 from . import checkpoints, rundir
 from .devices import DeviceError, resolve_device
 from .evaluation import EvalResult, evaluate, write_video
-from .hyperparams import get_algo, resolve
+from .hyperparams import check_her_warmup, get_algo, resolve
 from .request import TrainError, TrainRequest
 from .rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
 from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
@@ -52,7 +53,7 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
-    params = resolve(req.algo, req.env, req.overrides)
+    params = resolve(req.algo, req.env, req.overrides, action_mode=req.action_mode)
     # The device is where a run executes, not what it is: it stays out of the compared
     # hyperparameters, so a run started on one device resumes on another.
     try:
@@ -70,6 +71,7 @@ def train(
     try:
         resolve_vec(req.vec, req.env, n_envs)
         check_demonstrations(req.env, req.action_mode, get_algo(req.algo).off_policy, params.get("demonstrations", 0))
+        check_her_warmup(req.algo, params, n_envs, gym.spec(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
