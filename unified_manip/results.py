@@ -28,10 +28,14 @@ class ResultsError(ValueError):
 
 
 def collect_row(run_dir: Path) -> dict[str, Any] | None:
-    """The results row of a finished run, or ``None`` if it is not finished."""
+    """The results row of a finished run, or ``None`` if it is not finished.
+
+    ``status.json`` says ``finished`` only once everything else is written (it is written
+    last, atomically), so it alone decides. The models are not needed: committed results
+    carry none (git ignores them), and a fresh clone's ``--collect`` keeps their rows."""
     run_dir = Path(run_dir)
     status = read_status(run_dir)
-    if not status or status.get("state") != "finished" or not (run_dir / "final_model.zip").is_file():
+    if not status or status.get("state") != "finished":
         return None
     config = yaml.safe_load((run_dir / CONFIG).read_text())
     evaluations = np.load(run_dir / "eval" / "evaluations.npz")
