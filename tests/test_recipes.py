@@ -74,11 +74,14 @@ def test_device_is_recorded_and_not_compared_on_resume(tmp_path):
 @pytest.mark.parametrize("algo", list(ALGOS))
 def test_every_hyperparameter_entry_loads_and_type_checks(algo):
     entries = [k for k in load_file(ALGOS[algo]) if k != "default"]
-    for task_id in entries:
+    for entry in entries:  # "<task ID>" or "<task ID> <action mode>"
+        task_id, _, mode = entry.partition(" ")
         assert task_id in unified_manip.TASKS, f"{algo}.yaml has an entry for unknown task {task_id}"
-    for task_id in ["default", *entries]:
-        params = resolve(algo, task_id)  # raises on an unknown key or a wrong type
+        assert not mode or mode in unified_manip.TASKS[task_id].action_modes, f"{algo}.yaml: unknown mode in {entry!r}"
+        # raises on an unknown key or a wrong type
+        params = resolve(algo, task_id, action_mode=mode or None)
         assert params["policy"] == "MultiInputPolicy"
+    assert resolve(algo, "default")["policy"] == "MultiInputPolicy"
 
 
 @pytest.mark.parametrize("grid", sorted((ROOT / "baselines" / "grids").rglob("*.yaml")), ids=lambda p: p.stem)
