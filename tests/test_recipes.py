@@ -14,7 +14,7 @@ import yaml
 import unified_manip
 from unified_manip.bench import load_grid
 from unified_manip.devices import DeviceError, resolve_device
-from unified_manip.hyperparams import ALGOS, load_file, resolve
+from unified_manip.hyperparams import ALGOS, load_file, resolve, split_entry
 
 ROOT = Path(__file__).resolve().parents[1]
 GPU = torch.cuda.is_available()
@@ -75,11 +75,11 @@ def test_device_is_recorded_and_not_compared_on_resume(tmp_path):
 def test_every_hyperparameter_entry_loads_and_type_checks(algo):
     entries = [k for k in load_file(ALGOS[algo]) if k != "default"]
     for entry in entries:  # "<task ID>" or "<task ID> <action mode>"
-        task_id, _, mode = entry.partition(" ")
+        task_id, mode = split_entry(entry)
         assert task_id in unified_manip.TASKS, f"{algo}.yaml has an entry for unknown task {task_id}"
-        assert not mode or mode in unified_manip.TASKS[task_id].action_modes, f"{algo}.yaml: unknown mode in {entry!r}"
+        assert mode is None or mode in unified_manip.TASKS[task_id].action_modes, f"{algo}.yaml: unknown mode in {entry!r}"
         # raises on an unknown key or a wrong type
-        params = resolve(algo, task_id, action_mode=mode or None)
+        params = resolve(algo, task_id, action_mode=mode)
         assert params["policy"] == "MultiInputPolicy"
     assert resolve(algo, "default")["policy"] == "MultiInputPolicy"
 

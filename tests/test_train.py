@@ -293,8 +293,6 @@ def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
 def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
     """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
     task without one), so ``train --algo ALGO`` works with the defaults on every ID x mode."""
-    import gymnasium as gym
-
     from unified_manip.demonstrations import check
     from unified_manip.hyperparams import check_her_warmup, get_algo
 
@@ -302,7 +300,7 @@ def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
         for mode in spec.action_modes:
             params = resolve(algo, task_id, action_mode=mode)
             check(task_id, mode, get_algo(algo).off_policy, params.get("demonstrations", 0))
-            check_her_warmup(algo, params, params.get("n_envs", 1), gym.spec(task_id).max_episode_steps)
+            check_her_warmup(algo, params, params.get("n_envs", 1), spec.max_episode_steps)
 
 
 def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_2(tmp_path):

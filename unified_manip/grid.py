@@ -8,8 +8,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
-
 from .config import validate_reward_type
 from .hyperparams import ALGOS, check_her_warmup, resolve
 from .registry import TASKS, get_task
@@ -129,7 +127,7 @@ def load_grid(path: Path) -> Grid:
             sets = tuple(run_settings + list(overrides.get(a, [])))
             try:  # every hyperparameter override is checked before anything starts
                 params = resolve(a, t, sets, action_mode=m)
-                check_her_warmup(a, params, n_envs[a] or params.get("n_envs", 1), gym.spec(t).max_episode_steps)
+                check_her_warmup(a, params, n_envs[a] or params.get("n_envs", 1), TASKS[t].max_episode_steps)
             except ValueError as err:
                 raise GridError(f"{path}: {err}") from None
             runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a]))

@@ -170,17 +170,23 @@ def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, 
     return data
 
 
-def _names_a_task(key: str) -> bool:
-    from .registry import TASKS
-
-    task_id, _, mode = key.partition(" ")
-    return task_id in TASKS and (not mode or mode in TASKS[task_id].action_modes)
-
-
 def mode_entry(task_id: str, action_mode: str) -> str:
     """The key of the entry that holds ``task_id``'s settings for one action mode only
     (e.g. ``"UnifiedManip/Lift-v0 native"``)."""
     return f"{task_id} {action_mode}"
+
+
+def split_entry(key: str) -> tuple[str, str | None]:
+    """``(task ID, action mode or None)`` of an entry key (the inverse of :func:`mode_entry`)."""
+    task_id, _, mode = key.partition(" ")
+    return task_id, mode or None
+
+
+def _names_a_task(key: str) -> bool:
+    from .registry import TASKS
+
+    task_id, mode = split_entry(key)
+    return task_id in TASKS and (mode is None or mode in TASKS[task_id].action_modes)
 
 
 def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), directory: Path | None = None,
@@ -211,13 +217,13 @@ def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), direc
     return params
 
 
-def check_her_warmup(algo_name: str, params: dict[str, Any], n_envs: int, episode_steps: int | None) -> None:
+def check_her_warmup(algo_name: str, params: dict[str, Any], n_envs: int, episode_steps: int) -> None:
     """Raise :class:`HyperparameterError` if a HER run would start training before any
     episode has ended: HER draws its goals from finished episodes, and SB3 stops the run
     there with a traceback. The envs of a vector env end their first episodes together,
     at step ``n_envs * episode_steps``; demonstrations put finished episodes in first."""
     algo = get_algo(algo_name)
-    if not algo.her or params.get("demonstrations", 0) or not episode_steps:
+    if not algo.her or params.get("demonstrations", 0):
         return
     starts = params.get("learning_starts", inspect.signature(algo.cls()).parameters["learning_starts"].default)
     first_update = (starts // n_envs + 1) * n_envs  # SB3 trains once num_timesteps > learning_starts

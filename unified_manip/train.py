@@ -18,13 +18,13 @@ import time
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import yaml
 
 from . import checkpoints, rundir
 from .devices import DeviceError, resolve_device
 from .evaluation import EvalResult, evaluate, write_video
 from .hyperparams import check_her_warmup, get_algo, resolve
+from .registry import get_task
 from .request import TrainError, TrainRequest
 from .rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
 from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
@@ -71,7 +71,7 @@ def train(
     try:
         resolve_vec(req.vec, req.env, n_envs)
         check_demonstrations(req.env, req.action_mode, get_algo(req.algo).off_policy, params.get("demonstrations", 0))
-        check_her_warmup(req.algo, params, n_envs, gym.spec(req.env).max_episode_steps)
+        check_her_warmup(req.algo, params, n_envs, get_task(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
@@ -224,7 +224,6 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> N
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
     """Each reward term's scale in the run's reward design (what the raw terms are logged from)."""
-    from .registry import get_task
     from .rewards import make_reward_spec
 
     spec = make_reward_spec(req.reward_type, get_task(req.env).shaping)
