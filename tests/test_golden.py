@@ -1,6 +1,11 @@
 """Behaviour does not change: every ID x action mode x reward type replays its golden
 50-step rollout bit for bit (see ``tests/golden.py``; regenerate with
-``python tests/golden.py --write``)."""
+``python tests/golden.py --write``).
+
+The rollouts are played once, all together, in a child process with generic floating
+point (``golden.PORTABLE_ENV``), so the hashes do not depend on the CPU. The tests share
+an xdist group: one worker starts that child (the README's command runs
+``--dist loadgroup``)."""
 
 from __future__ import annotations
 
@@ -9,9 +14,15 @@ import hashlib
 import numpy as np
 import pytest
 from conftest import ID_MODE_REWARDS
-from golden import feed, hashes, key, load
+from golden import check_portable, feed, hashes_in_child, key, load
 
 STORED = load()
+pytestmark = pytest.mark.xdist_group("golden")
+
+
+@pytest.fixture(scope="session")
+def played() -> dict[str, dict[str, str]]:
+    return hashes_in_child()
 
 
 def test_every_registered_case_has_stored_hashes():
@@ -20,8 +31,14 @@ def test_every_registered_case_has_stored_hashes():
     assert sorted(set(STORED) - current) == [], "IDs or modes were removed: bump versions instead"
 
 
-def test_golden_rollout(id_mode_reward):
-    assert hashes(*id_mode_reward) == STORED[key(*id_mode_reward)]
+def test_golden_rollout(id_mode_reward, played):
+    assert played[key(*id_mode_reward)] == STORED[key(*id_mode_reward)]
+
+
+def test_generic_floating_point_is_checked():
+    # pytest's own process runs with the CPU's code paths: the check refuses to hash here.
+    with pytest.raises(RuntimeError, match="golden rollouts need generic floating point"):
+        check_portable()
 
 
 def _digest(value) -> str:
