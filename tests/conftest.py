@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import os
 
 os.environ.setdefault("MUJOCO_GL", "egl")
@@ -39,6 +40,24 @@ def rollout(env: gym.Env, seed: int, actions: np.ndarray):
 def random_actions(env: gym.Env, n: int, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
     return rng.uniform(-1.0, 1.0, size=(n,) + env.action_space.shape).astype(np.float32)
+
+
+_GC_EVERY = 20
+_tests_since_gc = 0
+
+
+@pytest.fixture(autouse=True)
+def _collect_cycles():
+    """Run a full garbage collection every ``_GC_EVERY`` tests. robosuite's envs hold
+    reference cycles, and the MuJoCo memory they keep is invisible to Python's GC
+    thresholds, so without this an xdist worker grew to 9-13 GB and was OOM-killed (the
+    golden rollouts alone: 3.7 GB peak without a collection per env, 0.9 GB with one)."""
+    global _tests_since_gc
+    yield
+    _tests_since_gc += 1
+    if _tests_since_gc >= _GC_EVERY:
+        _tests_since_gc = 0
+        gc.collect()
 
 
 @pytest.fixture(params=ID_MODE_REWARDS, ids=lambda p: "-".join(p).replace("UnifiedManip/", ""))

@@ -41,6 +41,7 @@ legitimately differ.
 from __future__ import annotations
 
 import ctypes
+import gc
 import glob
 import hashlib
 import json
@@ -179,6 +180,7 @@ def rollout(task_id: str, mode: str, reward: str) -> Iterator[tuple[str, Any]]:
                 yield "infos", info
     finally:
         env.close()
+        gc.collect()  # robosuite's envs hold reference cycles: free each before the next
 
 
 def hashes(task_id: str, mode: str, reward: str) -> dict[str, str]:
