@@ -154,6 +154,22 @@ def test_exploration_measures_what_random_actions_give_her():
     assert arm.gripper_cm_per_s == pytest.approx(arm.gripper_cm_per_step / 0.02)
 
 
+def test_step_response_shows_the_servo_overshoot_only_where_a_mode_holds_its_target():
+    from unified_manip.step_response import measure
+
+    # One full step on j1 (axis 1): joint_target_delta holds the target and the stiff servo
+    # overshoots it; joint_delta re-targets from where the arm is, so the overshoot is gone.
+    held = measure("UnifiedManip/Arm4Push-v0", "joint_target_delta", axis=1, episodes=2)
+    retargeted = measure("UnifiedManip/Arm4Push-v0", "joint_delta", axis=1, episodes=2)
+    assert held.overshoot > 0.05 and retargeted.overshoot < 0.03
+    assert held.peak_cm >= held.settled_cm > 1.0 and held.settle_steps > retargeted.settle_steps
+    # ee_target_delta's target moves exactly one 2.5 cm step, wherever the arm overshoots to.
+    ee = measure("UnifiedManip/Arm4Push-v0", "ee_target_delta", axis=0, episodes=1)
+    assert ee.settled_cm == pytest.approx(2.5, abs=0.05)
+    with pytest.raises(ValueError, match="axis 9 is outside"):
+        measure("UnifiedManip/Arm4Push-v0", "ee_delta", axis=9, episodes=1)
+
+
 # ---------------------------------------------------------------------- new algo keys resume
 def test_crossq_her_resumes_after_kill_9(tmp_path):
     """Each new algorithm key resumes after a kill with its step count and replay buffer."""
