@@ -82,6 +82,21 @@ def test_action_noise_measures_how_much_each_mode_disturbs_the_scripted_policy()
     assert noisy_demonstrations(ARM, "joint_position", 0.1, episodes=3) == 0.0
 
 
+def test_footprint_shows_absolute_targets_use_a_small_part_of_the_action_box():
+    """``python -m unified_manip.exploration --footprint``: the scripted pick-and-place
+    uses most of each incremental mode's range, but only a narrow band of each arm
+    joint's absolute-target range, and changes its absolute targets far less per step."""
+    from unified_manip.exploration import footprint
+
+    position, position_change = footprint(ARM, "joint_position", episodes=2)
+    delta, delta_change = footprint(ARM, "joint_delta", episodes=2)
+    assert position.shape == delta.shape == gym.make(ARM, action_mode="joint_position").action_space.shape
+    assert np.all((position >= 0.0) & (position <= 1.0))
+    assert np.all(position[:-1] < 0.5) and position[-1] == 1.0  # arm joints a band; gripper open and shut
+    assert np.all(delta[:-1] > 0.5)
+    assert position_change < delta_change / 2
+
+
 @pytest.mark.parametrize("mode", unified_manip.TASKS[ARM].action_modes)
 def test_the_scripted_policy_solves_pick_and_place_in_every_arm_mode(mode):
     """Demonstrations in every action mode (issue 10, item 5): the ee_delta policy's

@@ -124,6 +124,46 @@ def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes:
     return successes / episodes
 
 
+def footprint(task_id: str, action_mode: str, episodes: int = 20, seed: int = 0) -> tuple[np.ndarray, float]:
+    """Where the task's scripted policy acts in ``action_mode``: the fraction of each action
+    dimension's ``[-1, 1]`` that its actions span (max minus min, over ``episodes`` seeded
+    episodes, halved), and the mean absolute change of an action component from one step
+    to the next. A mode in which a solving policy uses a small part of the box asks a
+    learner for precise actions there."""
+    import gymnasium as gym
+
+    import unified_manip  # noqa: F401
+    from unified_manip.demonstrations import policy
+
+    env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
+    act = policy(task_id, action_mode, env)
+    actions, changes = [], []
+    for ep in range(episodes):
+        obs, _ = env.reset(seed=seed + ep)
+        done, episode = False, []
+        while not done:
+            episode.append(np.asarray(act(obs), dtype=np.float64))
+            obs, _, terminated, truncated, _ = env.step(episode[-1].astype(np.float32))
+            done = terminated or truncated
+        episode = np.clip(np.array(episode), -1.0, 1.0)
+        actions.append(episode)
+        changes.append(np.abs(np.diff(episode, axis=0)))
+    env.close()
+    stacked = np.concatenate(actions)
+    return (stacked.max(0) - stacked.min(0)) / 2.0, float(np.concatenate(changes).mean())
+
+
+def _footprint_table(task_id: str, episodes: int) -> None:
+    from unified_manip.demonstrations import demonstrable_modes
+
+    print(f"{task_id}: the scripted policy's actions in each shared action mode ({episodes} episodes)")
+    print("| action mode | span of each dimension's [-1, 1] used | mean change per step |")
+    print("|---|---|---:|")
+    for mode in demonstrable_modes(task_id):
+        span, change = footprint(task_id, mode, episodes)
+        print(f"| {mode} | {' / '.join(f'{v:.2f}' for v in span)} | {change:.3f} |")
+
+
 def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
     from unified_manip.demonstrations import demonstrable_modes
 
@@ -142,8 +182,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--noise", type=float, nargs="+", metavar="SIGMA",
                         help="instead: the scripted policy's success in every shared action mode of --task, with "
                              "Gaussian action noise of each std SIGMA")
-    parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", help="the task of --noise")
+    parser.add_argument("--footprint", action="store_true",
+                        help="instead: the part of the action box the scripted policy of --task uses in every "
+                             "shared action mode")
+    parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", help="the task of --noise and --footprint")
     args = parser.parse_args(argv)
+    if args.footprint:
+        _footprint_table(args.task, args.episodes)
+        return 0
     if args.noise:
         _noise_table(args.task, args.noise, args.episodes)
         return 0
