@@ -6,6 +6,10 @@ import gc
 import os
 
 os.environ.setdefault("MUJOCO_GL", "egl")
+# One torch thread per test process (and per `train` it starts): the suite runs one
+# worker per core, and a 2-thread train beside a busy core spins (a 300-step tqc_her
+# Lift run: 637 s with 2 threads, 21 s with 1, each beside one 1-thread training run).
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import gymnasium as gym  # noqa: E402
 import numpy as np  # noqa: E402
