@@ -50,6 +50,26 @@ _GC_EVERY = 20
 _tests_since_gc = 0
 
 
+def interrupt_after_first_checkpoint(run_dir, call) -> None:
+    """Run ``call()`` (a ``train`` of ``run_dir`` in this process) and Ctrl-C it once its
+    first checkpoint is published: ``train`` checkpoints and raises KeyboardInterrupt."""
+    import signal
+    import threading
+
+    from unified_manip import checkpoints
+
+    def interrupt():
+        while not checkpoints.published(run_dir):
+            threading.Event().wait(0.2)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    watcher = threading.Thread(target=interrupt, daemon=True)
+    watcher.start()
+    with pytest.raises(KeyboardInterrupt):
+        call()
+    watcher.join()
+
+
 @pytest.fixture(autouse=True)
 def _collect_cycles():
     """Run a full garbage collection every ``_GC_EVERY`` tests. robosuite's envs hold

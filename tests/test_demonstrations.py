@@ -16,6 +16,7 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 import pytest
+from conftest import interrupt_after_first_checkpoint
 
 from unified_manip import checkpoints
 import unified_manip
@@ -173,23 +174,9 @@ def test_a_run_with_demonstrations_keeps_them_apart_from_its_own_episodes(mode, 
 
 
 def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
-    import os
-    import signal
-    import threading
-
     run = tmp_path / "run"
     first: list[str] = []
-
-    def interrupt_after_first_checkpoint():
-        while not checkpoints.published(run):
-            threading.Event().wait(0.2)
-        os.kill(os.getpid(), signal.SIGINT)  # train() checkpoints and raises KeyboardInterrupt
-
-    watcher = threading.Thread(target=interrupt_after_first_checkpoint, daemon=True)
-    watcher.start()
-    with pytest.raises(KeyboardInterrupt):
-        train(_request(run), progress=False, threads=1, log=first.append)
-    watcher.join()
+    interrupt_after_first_checkpoint(run, lambda: train(_request(run), progress=False, threads=1, log=first.append))
     assert any("demonstration episodes" in line for line in first)
     step = json.loads((run / "status.json").read_text())["num_timesteps"]
     assert 200 <= step < 300

@@ -32,6 +32,7 @@ RUN_KEYS: dict[str, type] = {
     "device": str,  # auto | cpu | cuda; --device overrides it (where a run executes, not compared on resume)
     "n_envs": int,  # parallel envs, at least 1; train --n-envs and a grid's n_envs override it
     "demonstrations": int,  # off-policy: episodes of the scripted policy put in the replay buffer first
+    "bc_steps": int,  # with demonstrations: actor gradient steps of behaviour cloning on them before training
 }
 
 

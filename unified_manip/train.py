@@ -67,10 +67,12 @@ def train(
     from .vector.factory import resolve_vec
 
     from .demonstrations import check as check_demonstrations
+    from .pretrain import check as check_pretrain
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
         check_demonstrations(req.env, req.action_mode, get_algo(req.algo).off_policy, params.get("demonstrations", 0))
+        check_pretrain(params.get("bc_steps", 0), params.get("demonstrations", 0))
         check_her_warmup(req.algo, params, n_envs, get_task(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
@@ -156,6 +158,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
             if params.get("demonstrations"):
                 _demonstrate(model, req, n_envs, params["demonstrations"], log)
+            if params.get("bc_steps"):
+                _clone(model, req, params["bc_steps"], log)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -220,6 +224,16 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> N
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
     log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer")
+
+
+def _clone(model, req: TrainRequest, steps: int, log) -> None:
+    """Behaviour-clone the new model's actor on the demonstrations (:mod:`unified_manip.pretrain`)."""
+    from .pretrain import behaviour_clone
+
+    done = behaviour_clone(model, steps)
+    write_atomic(req.directory / "behaviour_cloning.json", json.dumps(done, indent=2) + "\n")
+    log(f"{req.directory}: behaviour cloning, {steps} actor steps on the demonstrations "
+        f"(loss {done['loss_first']:.3f} -> {done['loss_last']:.3f})")
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
