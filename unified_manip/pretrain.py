@@ -11,9 +11,10 @@ is not pretrained.
 The loss is the policy's own: the negative log-likelihood of the demonstrated actions
 under a stochastic actor (SAC, TQC, CrossQ: a tanh-squashed Gaussian, so the actor's
 standard deviation shrinks to fit the demonstrations too; see :data:`EDGE`), the squared error of a
-deterministic actor's action (TD3). Batches come through the buffer's ``sample`` (HER
-relabels their goals like any other batch, and normalised runs see normalised
-observations).
+deterministic actor's action (TD3). Batches come through the buffer's ``sample``
+(normalised runs see normalised observations) with the goals the demonstrations acted
+for: a HER buffer relabels none of them here, as a demonstrated action toward one goal
+is no example of acting toward another.
 """
 
 from __future__ import annotations
@@ -59,11 +60,15 @@ def behaviour_clone(model, steps: int) -> dict[str, Any]:
     Returns ``{"steps", "loss_first", "loss_last"}``: the loss of the first and of the
     last batch (each averaged over the batch).
     """
+    buffer = model.replay_buffer
+    her_ratio = getattr(buffer, "her_ratio", None)
+    if her_ratio is not None:  # the goals the demonstrations acted for, none relabelled
+        buffer.her_ratio = 0.0
     model.policy.set_training_mode(True)
     losses = []
     try:
         for _ in range(steps):
-            batch = model.replay_buffer.sample(model.batch_size, env=model._vec_normalize_env)
+            batch = buffer.sample(model.batch_size, env=model._vec_normalize_env)
             loss = _loss(model.actor, batch.observations, batch.actions)
             model.actor.optimizer.zero_grad()
             loss.backward()
@@ -71,6 +76,8 @@ def behaviour_clone(model, steps: int) -> dict[str, Any]:
             losses.append(float(loss.item()))
     finally:
         model.policy.set_training_mode(False)
+        if her_ratio is not None:
+            buffer.her_ratio = her_ratio
     if hasattr(model, "actor_target"):  # TD3 acts on its target actor's next actions: start it equal
         model.actor_target.load_state_dict(model.actor.state_dict())
     return {"steps": steps, "loss_first": losses[0] if losses else None, "loss_last": losses[-1] if losses else None}
