@@ -284,7 +284,14 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     assert sum(r["demonstrations"] is not None for r in read) == 4
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
     assert ("- Demonstrations: 4 of 8 runs started with 104 episodes of the task's scripted policy in the replay "
-            "buffer (their success 0.98–1.00); they are not counted in the budget.") in text
+            "buffer (their success 0.98–1.00); they are not counted in the budget.\n") in text
+    # Runs whose actor was behaviour-cloned on them (bc_steps) say that too.
+    cloned = json.loads(rows[0]["demonstrations"])
+    rows[0]["demonstrations"] = json.dumps({**cloned, "behaviour_cloning": {"steps": 5000, "loss_first": 3.0, "loss_last": -20.0}})
+    write_results(bench, rows)
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    assert ("they are not counted in the budget. The actor of 1 of them was behaviour-cloned on them first "
+            "(5,000 gradient steps).\n") in text
     import csv
 
     from unified_manip.results import RESULT_COLUMNS

@@ -78,13 +78,14 @@ def _request(run_dir, **overrides) -> TrainRequest:
 
 
 def test_a_run_clones_once_and_records_it(tmp_path):
-    """Cloned at the start, recorded in behaviour_cloning.json; interrupted after its first
+    """Cloned at the start, recorded with the demonstrations (demonstrations.json); interrupted after its first
     checkpoint and resumed, the run goes on from the checkpointed (cloned) actor."""
     run = tmp_path / "run"
     first: list[str] = []
     interrupt_after_first_checkpoint(run, lambda: train(_request(run), progress=False, threads=1, log=first.append))
-    record = json.loads((run / "behaviour_cloning.json").read_text())
-    assert record["steps"] == 20 and np.isfinite([record["loss_first"], record["loss_last"]]).all()
+    record = json.loads((run / "demonstrations.json").read_text())
+    assert record["episodes"] == 2 and record["behaviour_cloning"]["steps"] == 20
+    assert np.isfinite([record["behaviour_cloning"]["loss_first"], record["behaviour_cloning"]["loss_last"]]).all()
     assert sum("behaviour cloning, 20 actor steps on the demonstrations" in line for line in first) == 1
     again: list[str] = []
     status = train(_request(run), progress=False, threads=1, log=again.append)

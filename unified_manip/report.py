@@ -39,9 +39,14 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     did not collect, so the report says so)."""
     episodes = sorted({r["demonstrations"]["episodes"] for r in demonstrated})
     success = [r["demonstrations"]["success"] for r in demonstrated]
+    cloned = sorted({r["demonstrations"]["behaviour_cloning"]["steps"] for r in demonstrated
+                     if r["demonstrations"].get("behaviour_cloning")})
+    cloning = (f" The actor of {sum(bool(r['demonstrations'].get('behaviour_cloning')) for r in demonstrated)} "
+               f"of them was behaviour-cloned on them first ({', '.join(f'{c:,}' for c in cloned)} gradient steps)."
+               if cloned else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
-            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.")
+            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}")
 
 
 def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:

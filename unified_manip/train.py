@@ -231,7 +231,8 @@ def _clone(model, req: TrainRequest, steps: int, log) -> None:
     from .pretrain import behaviour_clone
 
     done = behaviour_clone(model, steps)
-    write_atomic(req.directory / "behaviour_cloning.json", json.dumps(done, indent=2) + "\n")
+    record = req.directory / "demonstrations.json"  # the run's record of its prior (results.csv carries it)
+    write_atomic(record, json.dumps({**json.loads(record.read_text()), "behaviour_cloning": done}, indent=2) + "\n")
     log(f"{req.directory}: behaviour cloning, {steps} actor steps on the demonstrations "
         f"(loss {done['loss_first']:.3f} -> {done['loss_last']:.3f})")
 
