@@ -27,16 +27,18 @@ ARM = "UnifiedManip/Arm4PickAndPlace-v0"
 MODE = "joint_position"  # the mode the lever is for
 
 
-def _demonstrated_model(algo_cls, her: bool):
+def _demonstrated_model(algo_cls, her: bool, normalize: bool = False):
     from stable_baselines3 import HerReplayBuffer
+    from stable_baselines3.common.vec_env import VecNormalize
 
     from unified_manip.vecenvs import make_vec_env
 
     kwargs = {"action_mode": MODE, "reward_type": "sparse"}
     venv = make_vec_env(ARM, kwargs, 1, 3, None, "dummy")
     extra = {"replay_buffer_class": HerReplayBuffer} if her else {}
-    model = algo_cls("MultiInputPolicy", make_vec_env(ARM, kwargs, 1, 0, None, "dummy"), buffer_size=2000,
-                     learning_starts=10, batch_size=64, seed=0, **extra)
+    env = make_vec_env(ARM, kwargs, 1, 0, None, "dummy")
+    env = VecNormalize(env, norm_reward=False) if normalize else env
+    model = algo_cls("MultiInputPolicy", env, buffer_size=2000, learning_starts=10, batch_size=64, seed=0, **extra)
     prefill(model, venv, ARM, MODE, episodes=2)
     venv.close()
     return model
@@ -67,6 +69,23 @@ def test_cloning_brings_the_actors_actions_to_the_demonstrated_ones(algo):
     if algo == "td3":  # the target actor starts from the cloned one
         for p, q in zip(model.actor.parameters(), model.actor_target.parameters()):
             assert torch.equal(p, q)
+
+
+def test_a_normalising_runs_statistics_start_from_the_demonstrations():
+    """Fitted to inputs normalised as the first rollouts' will be: the observation
+    statistics hold the demonstrated observations before cloning (else they would be the
+    identity until the first rollout, and change under the cloned actor)."""
+    from sb3_contrib import TQC
+
+    model = _demonstrated_model(TQC, her=True, normalize=True)
+    stats = model._vec_normalize_env.obs_rms
+    assert np.allclose(stats["observation"].mean, 0.0)  # nothing seen yet
+    behaviour_clone(model, 1)
+    stored = model.replay_buffer.observations
+    rows = model.replay_buffer.size()
+    for key in ("observation", "desired_goal"):
+        np.testing.assert_allclose(stats[key].mean, stored[key][:rows, 0].mean(axis=0), atol=1e-3)
+        np.testing.assert_allclose(stats[key].var, stored[key][:rows, 0].var(axis=0), atol=1e-3)
 
 
 def _request(run_dir, **overrides) -> TrainRequest:

@@ -12,7 +12,8 @@ The loss is the policy's own: the negative log-likelihood of the demonstrated ac
 under a stochastic actor (SAC, TQC, CrossQ: a tanh-squashed Gaussian, so the actor's
 standard deviation shrinks to fit the demonstrations too; see :data:`EDGE`), the squared error of a
 deterministic actor's action (TD3). Batches come through the buffer's ``sample``
-(normalised runs see normalised observations) with the goals the demonstrations acted
+(a normalising run's statistics start from the demonstrations, see
+:func:`_seed_statistics`) with the goals the demonstrations acted
 for: a HER buffer relabels none of them here, as a demonstrated action toward one goal
 is no example of acting toward another.
 """
@@ -53,6 +54,21 @@ def _loss(actor, observations, actions):
     return F.mse_loss(actor(observations), actions)
 
 
+def _seed_statistics(venv, buffer) -> None:
+    """Start a normalising run's observation statistics (``VecNormalize``, None: the run
+    does not normalise) from the demonstrated observations in ``buffer``, so the actor is
+    fitted to inputs normalised as its first rollouts' will be; the agent's own
+    observations then update them as usual. Unseeded they are the identity until the
+    first rollout, and the cloned actor would face other inputs from its first update on."""
+    if venv is None or not venv.norm_obs:
+        return
+    rows = buffer.size()
+    pairs = ([(venv.obs_rms[k], buffer.observations[k]) for k in venv.norm_obs_keys] if isinstance(venv.obs_rms, dict)
+             else [(venv.obs_rms, buffer.observations)])
+    for stats, values in pairs:  # stored as (rows, n_envs, ...)
+        stats.update(values[:rows].reshape(-1, *values.shape[2:]))
+
+
 def behaviour_clone(model, steps: int) -> dict[str, Any]:
     """Fit ``model.actor`` to the actions in ``model.replay_buffer`` for ``steps`` gradient
     steps of ``model.batch_size`` with the actor's own optimiser.
@@ -61,6 +77,7 @@ def behaviour_clone(model, steps: int) -> dict[str, Any]:
     last batch (each averaged over the batch).
     """
     buffer = model.replay_buffer
+    _seed_statistics(model._vec_normalize_env, buffer)
     her_ratio = getattr(buffer, "her_ratio", None)
     if her_ratio is not None:  # the goals the demonstrations acted for, none relabelled
         buffer.her_ratio = 0.0
