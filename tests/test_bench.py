@@ -182,6 +182,10 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
         ({"tasks": ["UnifiedManip/HandReach-v0"], "action_modes": ["ee_delta"]},
          "action_mode 'ee_delta' is not supported by UnifiedManip/HandReach-v0; expected one of 'joint_delta', "),
         ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
+        ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_steps=10"]}},
+         "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
+        ({"algos": ["ppo"], "overrides": {"ppo": ["demonstrations=5"]}},
+         "demonstrations go into a replay buffer; use an off-policy algorithm (sac, "),
     ],
 )
 def test_malformed_grids_give_exact_errors(tmp_path, change, message):
