@@ -9,9 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from .config import validate_reward_type
-from .demonstrations import check as check_demonstrations
 from .hyperparams import ALGOS, check_her_warmup, resolve
-from .pretrain import check as check_pretrain
+from .pretrain import check_settings as check_demonstration_settings
 from .registry import TASKS, get_task
 from .yamlfile import YamlFileError, load_mapping
 
@@ -130,8 +129,7 @@ def load_grid(path: Path) -> Grid:
             try:  # every hyperparameter override is checked before anything starts
                 params = resolve(a, t, sets, action_mode=m)
                 check_her_warmup(a, params, n_envs[a] or params.get("n_envs", 1), TASKS[t].max_episode_steps)
-                check_demonstrations(t, m, ALGOS[a].off_policy, params.get("demonstrations", 0))
-                check_pretrain(params.get("bc_steps", 0), params.get("demonstrations", 0))
+                check_demonstration_settings(t, m, ALGOS[a].off_policy, params)
             except ValueError as err:
                 raise GridError(f"{path}: {err}") from None
             runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a]))

@@ -36,6 +36,17 @@ def check(bc_steps: int, demonstrations: int) -> None:
         raise PretrainError(f"bc_steps={bc_steps} clones the demonstrations; set demonstrations to 1 or more episodes")
 
 
+def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dict[str, Any]) -> None:
+    """Raise a ``ValueError`` unless a run with hyperparameters ``params`` can take the
+    demonstrations (:func:`unified_manip.demonstrations.check`) and the cloning it asks for:
+    what ``train`` and a grid's loading both check before anything starts."""
+    from .demonstrations import check as check_demonstrations
+
+    episodes = params.get("demonstrations", 0)
+    check_demonstrations(task_id, action_mode, off_policy, episodes)
+    check(params.get("bc_steps", 0), episodes)
+
+
 #: Demonstrated actions at the edge of the box (a gripper's -1 or +1) are fitted as this
 #: much inside it by a squashed Gaussian: the inverse tanh of 1 is float32's limit (8.3),
 #: and fitting that left the gripper's standard deviation at its cap (e^2) and its mean

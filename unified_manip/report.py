@@ -39,11 +39,10 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     did not collect, so the report says so)."""
     episodes = sorted({r["demonstrations"]["episodes"] for r in demonstrated})
     success = [r["demonstrations"]["success"] for r in demonstrated]
-    cloned = sorted({r["demonstrations"]["behaviour_cloning"]["steps"] for r in demonstrated
-                     if r["demonstrations"].get("behaviour_cloning")})
-    cloning = (f" The actor of {sum(bool(r['demonstrations'].get('behaviour_cloning')) for r in demonstrated)} "
-               f"of them was behaviour-cloned on them first ({', '.join(f'{c:,}' for c in cloned)} gradient steps)."
-               if cloned else "")
+    cloned = [r["demonstrations"]["behaviour_cloning"]["steps"] for r in demonstrated
+              if r["demonstrations"].get("behaviour_cloning")]
+    cloning = (f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
+               f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)." if cloned else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
             f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}")

@@ -66,13 +66,11 @@ def train(
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
     from .vector.factory import resolve_vec
 
-    from .demonstrations import check as check_demonstrations
-    from .pretrain import check as check_pretrain
+    from .pretrain import check_settings as check_demonstration_settings
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
-        check_demonstrations(req.env, req.action_mode, get_algo(req.algo).off_policy, params.get("demonstrations", 0))
-        check_pretrain(params.get("bc_steps", 0), params.get("demonstrations", 0))
+        check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, params)
         check_her_warmup(req.algo, params, n_envs, get_task(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
@@ -157,9 +155,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
             if params.get("demonstrations"):
-                _demonstrate(model, req, n_envs, params["demonstrations"], log)
-            if params.get("bc_steps"):
-                _clone(model, req, params["bc_steps"], log)
+                _demonstrate(model, req, n_envs, params["demonstrations"], params.get("bc_steps", 0), log)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -210,10 +206,13 @@ def _default_threads() -> int:
         return max(1, min(2, os.cpu_count() or 1))
 
 
-def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> None:
+def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, bc_steps: int, log) -> None:
     """Fill the new model's replay buffer with the scripted policy's episodes, played in
-    envs of their own (see :mod:`unified_manip.demonstrations`)."""
+    envs of their own (see :mod:`unified_manip.demonstrations`), then behaviour-clone its
+    actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`).
+    ``demonstrations.json`` records both (results.csv carries it)."""
     from .demonstrations import SEED_OFFSET, prefill
+    from .pretrain import behaviour_clone
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
     venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
@@ -221,20 +220,13 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, log) -> N
         done = prefill(model, venv, req.env, req.action_mode, episodes)
     finally:
         venv.close()
-    write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
     log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer")
-
-
-def _clone(model, req: TrainRequest, steps: int, log) -> None:
-    """Behaviour-clone the new model's actor on the demonstrations (:mod:`unified_manip.pretrain`)."""
-    from .pretrain import behaviour_clone
-
-    done = behaviour_clone(model, steps)
-    record = req.directory / "demonstrations.json"  # the run's record of its prior (results.csv carries it)
-    write_atomic(record, json.dumps({**json.loads(record.read_text()), "behaviour_cloning": done}, indent=2) + "\n")
-    log(f"{req.directory}: behaviour cloning, {steps} actor steps on the demonstrations "
-        f"(loss {done['loss_first']:.3f} -> {done['loss_last']:.3f})")
+    if bc_steps:
+        cloned = done["behaviour_cloning"] = behaviour_clone(model, bc_steps)
+        log(f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
+            f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})")
+    write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
