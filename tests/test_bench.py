@@ -184,6 +184,8 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
         ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
         ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_steps=10"]}},
          "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
+        ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_weight=2"]}},
+         "bc_weight=2 imitates the demonstrations; set demonstrations to 1 or more episodes"),
         ({"algos": ["ppo"], "overrides": {"ppo": ["demonstrations=5"]}},
          "demonstrations go into a replay buffer; use an off-policy algorithm (sac, "),
     ],
@@ -296,6 +298,12 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
     assert ("they are not counted in the budget. The actor of 1 of them was behaviour-cloned on them first "
             "(5,000 gradient steps).\n") in text
+    # And those that kept a cloning loss during training (bc_weight) say that.
+    rows[1]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5})
+    write_results(bench, rows)
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    assert ("(5,000 gradient steps). 1 of them kept a Q-filtered cloning loss on them in every actor update "
+            "(weight 2.5).\n") in text
     import csv
 
     from unified_manip.results import RESULT_COLUMNS

@@ -33,6 +33,7 @@ RUN_KEYS: dict[str, type] = {
     "n_envs": int,  # parallel envs, at least 1; train --n-envs and a grid's n_envs override it
     "demonstrations": int,  # off-policy: episodes of the scripted policy put in the replay buffer first
     "bc_steps": int,  # with demonstrations: actor gradient steps of behaviour cloning on them before training
+    "bc_weight": float,  # with demonstrations: weight of a Q-filtered cloning loss in every actor update
 }
 
 

@@ -38,13 +38,16 @@ def check(bc_steps: int, demonstrations: int) -> None:
 
 def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dict[str, Any]) -> None:
     """Raise a ``ValueError`` unless a run with hyperparameters ``params`` can take the
-    demonstrations (:func:`unified_manip.demonstrations.check`) and the cloning it asks for:
+    demonstrations (:func:`unified_manip.demonstrations.check`) and the cloning it asks for
+    (before training, and the loss during it: :func:`unified_manip.cloning_loss.check`):
     what ``train`` and a grid's loading both check before anything starts."""
+    from .cloning_loss import check as check_cloning_loss
     from .demonstrations import check as check_demonstrations
 
     episodes = params.get("demonstrations", 0)
     check_demonstrations(task_id, action_mode, off_policy, episodes)
     check(params.get("bc_steps", 0), episodes)
+    check_cloning_loss(params.get("bc_weight", 0), episodes)
 
 
 #: Demonstrated actions at the edge of the box (a gripper's -1 or +1) are fitted as this

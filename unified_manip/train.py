@@ -155,7 +155,9 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                         **_model_kwargs(req.algo, params, env.action_space.shape[0]))
             if params.get("demonstrations"):
-                _demonstrate(model, req, n_envs, params["demonstrations"], params.get("bc_steps", 0), log)
+                _demonstrate(model, req, n_envs, params, log)
+        if params.get("bc_weight"):
+            _keep_cloning(model, req, params["bc_weight"])
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -206,27 +208,43 @@ def _default_threads() -> int:
         return max(1, min(2, os.cpu_count() or 1))
 
 
-def _demonstrate(model, req: TrainRequest, n_envs: int, episodes: int, bc_steps: int, log) -> None:
-    """Fill the new model's replay buffer with the scripted policy's episodes, played in
-    envs of their own (see :mod:`unified_manip.demonstrations`), then behaviour-clone its
-    actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`).
-    ``demonstrations.json`` records both (results.csv carries it)."""
+def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], log) -> None:
+    """Fill the new model's replay buffer with the scripted policy's ``demonstrations``
+    episodes, played in envs of their own (see :mod:`unified_manip.demonstrations`), then
+    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`).
+    ``demonstrations.json`` records both, and the weight of the cloning loss kept during
+    training (``bc_weight``, :func:`_keep_cloning`); results.csv carries it."""
     from .demonstrations import SEED_OFFSET, prefill
     from .pretrain import behaviour_clone
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
     venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
     try:
-        done = prefill(model, venv, req.env, req.action_mode, episodes)
+        done = prefill(model, venv, req.env, req.action_mode, params["demonstrations"])
     finally:
         venv.close()
     log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer")
+    bc_steps = params.get("bc_steps", 0)
     if bc_steps:
         cloned = done["behaviour_cloning"] = behaviour_clone(model, bc_steps)
         log(f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
             f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})")
+    if params.get("bc_weight"):
+        done["cloning_loss_weight"] = params["bc_weight"]
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
+
+
+def _keep_cloning(model, req: TrainRequest, weight: float) -> None:
+    """Add the Q-filtered cloning loss on the recorded demonstrations to every actor
+    update from here on (:mod:`unified_manip.cloning_loss`; a resumed run adds it again)."""
+    from .cloning_loss import CloningLossError, attach
+
+    done = json.loads((req.directory / "demonstrations.json").read_text())
+    try:
+        attach(model, done["transitions"], req.steps, weight)
+    except CloningLossError as err:
+        raise TrainError(f"{req.directory}: {err}") from None
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:

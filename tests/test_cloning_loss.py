@@ -1,0 +1,118 @@
+"""The Q-filtered cloning loss during training (``bc_weight: λ``, issue 10 item 5).
+
+The contract: attached, every actor update also pulls the actor's actions toward the
+demonstrated ones, but only on transitions where the critic rates the demonstrated action
+strictly above the actor's own (a critic that rates every action alike moves nothing); a
+run attaches it again when it resumes (its TensorBoard log carries the loss from the
+resumed segment); asking for it without demonstrations, below 0, or with a replay buffer
+that would overwrite the demonstrations is a clear error, one line with exit 2 from the CLI.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+import torch
+from conftest import interrupt_after_first_checkpoint
+from test_pretrain import ARM, MODE, _action_error, _demonstrated_model, _request
+from test_train import tb_tags
+
+from unified_manip.cloning_loss import CloningLossError, attach, check
+from unified_manip.train import train
+
+
+def _pure_cloning_steps(model, steps: int) -> None:
+    """``steps`` actor optimiser steps with no loss of the algorithm's own: what moves the
+    actor is the attached cloning loss alone."""
+    from stable_baselines3.common.logger import configure
+
+    model.set_logger(configure(None, []))
+    model.policy.set_training_mode(True)
+    for _ in range(steps):
+        model.actor.optimizer.zero_grad()
+        model.actor.optimizer.step()
+
+
+@pytest.mark.parametrize("algo", ["tqc_her", "td3"])
+def test_the_loss_pulls_the_actor_toward_the_demonstrations(algo):
+    from sb3_contrib import TQC
+    from stable_baselines3 import TD3
+
+    model = _demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
+    before = _action_error(model)
+    attach(model, model.replay_buffer.size(), steps=100, weight=1.0)
+    _pure_cloning_steps(model, 300)
+    assert _action_error(model) < 0.7 * before, (before, _action_error(model))
+
+
+def test_a_critic_that_rates_every_action_alike_filters_everything_out():
+    """Q(s, a_demo) > Q(s, π(s)) never holds when Q ignores the action: the actor is untouched."""
+    from sb3_contrib import TQC
+
+    model = _demonstrated_model(TQC, her=True)
+    with torch.no_grad():
+        for net in model.critic.q_networks:
+            net[-1].weight.zero_()  # each quantile is its bias alone
+    before = [p.detach().clone() for p in model.actor.parameters()]
+    attach(model, model.replay_buffer.size(), steps=100, weight=1.0)
+    _pure_cloning_steps(model, 20)
+    for p, q in zip(before, model.actor.parameters()):
+        assert torch.equal(p, q)
+
+
+def test_a_resumed_run_keeps_the_loss(tmp_path):
+    """SB3 writes its training log every 4 episodes: at step 200 here, after the resume at
+    100, so the loss in the log was computed by a hook the resumed run attached."""
+    run = tmp_path / "run"
+    settings = {"bc_steps": 0, "bc_weight": 1.0}
+    interrupt_after_first_checkpoint(run, lambda: train(_request(run, **settings), progress=False, threads=1,
+                                                         log=lambda msg: None))
+    assert not {"train/bc_loss", "train/bc_q_filter"} & tb_tags(run)
+    assert json.loads((run / "demonstrations.json").read_text())["cloning_loss_weight"] == 1.0
+    status = train(_request(run, **settings), progress=False, threads=1, log=lambda msg: None)
+    assert status["state"] == "finished"
+    assert {"train/bc_loss", "train/bc_q_filter"} <= tb_tags(run)
+
+
+@pytest.mark.parametrize(
+    "weight,demonstrations,message",
+    [
+        (0.5, 0, "bc_weight=0.5 imitates the demonstrations; set demonstrations to 1 or more episodes"),
+        (-1.0, 5, "bc_weight must be a loss weight, 0 or more; got -1.0"),
+        (float("nan"), 5, "bc_weight must be a loss weight, 0 or more; got nan"),
+    ],
+)
+def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, message):
+    with pytest.raises(CloningLossError) as err:
+        check(weight, demonstrations)
+    assert message in str(err.value)
+    check(0.0, demonstrations)  # none asked: always fine
+
+
+def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
+    from sb3_contrib import TQC
+
+    model = _demonstrated_model(TQC, her=True)  # buffer_size 2000
+    demonstrated = model.replay_buffer.size()
+    with pytest.raises(CloningLossError, match=f"buffer_size must be at least 2001 transitions [(]{demonstrated} "):
+        attach(model, demonstrated, steps=2001 - demonstrated, weight=1.0)
+    attach(model, demonstrated, steps=2000 - demonstrated, weight=1.0)
+
+
+@pytest.mark.parametrize("sets,message", [
+    (["demonstrations=0", "bc_weight=1"], "set demonstrations to 1 or more episodes"),
+    (["demonstrations=1", "bc_weight=1", "buffer_size=200"], "buffer_size must be at least"),
+])
+def test_the_cli_refuses_in_one_line(tmp_path, sets, message):
+    args = [a for s in sets for a in ("--set", s)]
+    proc = subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", "train", "--env", ARM, "--action-mode", MODE, "--algo", "tqc_her",
+         "--steps", "200", *args, "--set", "n_envs=1", "--run-dir", str(tmp_path / "r"), "--no-progress"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], proc.stderr

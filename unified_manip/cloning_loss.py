@@ -1,0 +1,108 @@
+"""A behaviour-cloning loss kept during training, Q-filtered (``bc_weight: λ``).
+
+Nair et al. 2018 ("Overcoming Exploration in Reinforcement Learning with
+Demonstrations", section 4) add to each actor update a loss on a batch of demonstrated
+transitions, kept only where the critic rates the demonstrated action above the actor's
+own (the Q-filter)::
+
+    λ · mean over the batch of 1[Q(s, a_demo) > Q(s, π(s))] · ‖π(s) − a_demo‖²
+
+with π(s) the actor's deterministic action (a stochastic actor's mean action, squashed).
+The actor then imitates the scripted policy where the scripted policy is better and is
+free to improve on it elsewhere; :mod:`unified_manip.pretrain` is the other half of their
+method, cloning before training.
+
+The loss goes into every actor update of the algorithm, whatever it is (SAC, TQC,
+CrossQ, TD3): a step pre-hook on the actor's optimiser adds its gradient to the one the
+algorithm's own actor loss left, so each optimiser step follows the sum of the two losses.
+Q is the mean over the critic's outputs (critics, or critics × quantiles), evaluated in
+inference mode. The demonstrations are the replay buffer's first rows (the run put them
+there before any transition of its own), read with the goals they acted for, normalised as
+the buffer normalises, and sampled with numpy's global generator as the buffer samples.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+class CloningLossError(ValueError):
+    """A run asked for the cloning loss and cannot have it."""
+
+
+def check(bc_weight: float, demonstrations: int) -> None:
+    """Raise :class:`CloningLossError` unless ``bc_weight`` (0: no loss) is 0 or more and
+    the run has demonstrations to imitate."""
+    if not bc_weight >= 0:
+        raise CloningLossError(f"bc_weight must be a loss weight, 0 or more; got {bc_weight}")
+    if bc_weight and not demonstrations:
+        raise CloningLossError(f"bc_weight={bc_weight} imitates the demonstrations; set demonstrations to 1 or more "
+                               "episodes")
+
+
+def attach(model, transitions: int, steps: int, weight: float):
+    """Add the Q-filtered cloning loss of weight ``weight`` to every later actor update of
+    ``model``, on the first ``transitions`` transitions of its replay buffer (the
+    demonstrations) for a run of ``steps`` env steps in all.
+
+    Returns the hook's handle (``.remove()`` detaches it). Raises :class:`CloningLossError`
+    where the buffer would overwrite the demonstrations before the run ends.
+    """
+    buffer = model.replay_buffer
+    rows = transitions // buffer.n_envs
+    needed = rows + -(-steps // buffer.n_envs)
+    if buffer.buffer_size < needed:
+        raise CloningLossError(f"bc_weight needs the demonstrations kept in the replay buffer: buffer_size must be at "
+                               f"least {needed * buffer.n_envs} transitions ({transitions} demonstrated + {steps} "
+                               f"steps); got {buffer.buffer_size * buffer.n_envs}")
+    loss = _QFilteredCloning(model, rows, weight)
+    return model.actor.optimizer.register_step_pre_hook(lambda optimizer, args, kwargs: loss.backward())
+
+
+class _QFilteredCloning:
+    """Adds ``weight`` × the Q-filtered cloning loss's gradient to the actor's parameters."""
+
+    def __init__(self, model, rows: int, weight: float):
+        self.model, self.rows, self.weight = model, rows, weight
+
+    def backward(self) -> None:
+        import torch
+
+        model = self.model
+        observations, actions = self._batch()
+        mine = model.policy._predict(observations, deterministic=True)
+        with torch.no_grad():
+            better = self._q(observations, actions) > self._q(observations, mine)
+        errors = ((mine - actions) ** 2).sum(dim=1)
+        loss = self.weight * (better.float() * errors).mean()
+        loss.backward()
+        model.logger.record_mean("train/bc_loss", float(loss.item()))
+        model.logger.record_mean("train/bc_q_filter", float(better.float().mean().item()))
+
+    def _batch(self) -> tuple[Any, Any]:
+        import torch
+
+        model = self.model
+        buffer = model.replay_buffer
+        rows = np.random.randint(0, self.rows, size=model.batch_size)
+        envs = np.random.randint(0, buffer.n_envs, size=model.batch_size)
+        observations = {key: value[rows, envs] for key, value in buffer.observations.items()}
+        if model._vec_normalize_env is not None:
+            observations = model._vec_normalize_env.normalize_obs(observations)
+        tensors = {key: torch.as_tensor(value, device=model.device) for key, value in observations.items()}
+        return tensors, torch.as_tensor(buffer.actions[rows, envs], device=model.device)
+
+    def _q(self, observations, actions):
+        import torch
+
+        critic = self.model.critic
+        training = critic.training
+        critic.set_training_mode(False)  # no batch-norm statistics from these batches (CrossQ)
+        try:
+            values = critic(observations, actions)
+        finally:
+            critic.set_training_mode(training)
+        values = torch.cat(values, dim=1) if isinstance(values, tuple) else values
+        return values.flatten(start_dim=1).mean(dim=1)
