@@ -335,6 +335,9 @@ def test_report_ranks_reward_settings_and_sets_claims_beside_measurements(tmp_pa
     assert "| 2 | ppo | sparse | 0.20 | 0.88 |" in text  # the same hand-computed 14/16 as above
     assert "| PPO, sparse reward | ~5% (1M steps) | 0.20 [" in text
     assert "(1,000 steps, 4 seeds) |" in text
+    write_results(bench, [r for r in rows if r["algo"] == "sac" or r["seed"] == 0])  # one seed: no interval
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims).read_text()
+    assert "| PPO, sparse reward | ~5% (1M steps) | 0.10 (1,000 steps, 1 seed) |" in text
 
 
 def test_dense_rewards_peak_inside_the_success_region():

@@ -229,10 +229,11 @@ def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
             lines.append(f"| {label} | {c['claimed']} ({c['claimed_budget']}) | not run |")
             continue
         lo, hi = bootstrap_ci(vals)
+        interval = f" [{_fmt(lo)}, {_fmt(hi)}]" if len(vals) > 1 else ""  # none from one seed
         budget = sorted({r["steps"] for r in rows if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"]})
         lines.append(
-            f"| {label} | {c['claimed']} ({c['claimed_budget']}) | {np.mean(vals):.2f} [{_fmt(lo)}, {_fmt(hi)}] "
-            f"({', '.join(f'{b:,}' for b in budget)} steps, {len(vals)} seeds) |"
+            f"| {label} | {c['claimed']} ({c['claimed_budget']}) | {np.mean(vals):.2f}{interval} "
+            f"({', '.join(f'{b:,}' for b in budget)} steps, {len(vals)} seed{'s' if len(vals) > 1 else ''}) |"
         )
     lines.append("")
     return lines
