@@ -299,11 +299,12 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     assert ("they are not counted in the budget. The actor of 1 of them was behaviour-cloned on them first "
             "(5,000 gradient steps).\n") in text
     # And those that kept a cloning loss during training (bc_weight) say that.
-    rows[1]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5})
+    rows[1]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5})  # recorded before bc_q_filter
+    rows[2]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5, "cloning_loss_q_filter": False})
     write_results(bench, rows)
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert ("(5,000 gradient steps). 1 of them kept a Q-filtered cloning loss on them in every actor update "
-            "(weight 2.5).\n") in text
+    assert ("(5,000 gradient steps). 2 of them kept a cloning loss on them in every actor update "
+            "(weight 2.5, unfiltered; weight 2.5, Q-filtered).\n") in text
     import csv
 
     from unified_manip.results import RESULT_COLUMNS

@@ -48,46 +48,54 @@ def test_the_loss_pulls_the_actor_toward_the_demonstrations(algo):
     assert _action_error(model) < 0.7 * before, (before, _action_error(model))
 
 
-def test_a_critic_that_rates_every_action_alike_filters_everything_out():
-    """Q(s, a_demo) > Q(s, π(s)) never holds when Q ignores the action: the actor is untouched."""
+@pytest.mark.parametrize("q_filter", [True, False])
+def test_a_critic_that_rates_every_action_alike_filters_everything_out(q_filter):
+    """Q(s, a_demo) > Q(s, π(s)) never holds when Q ignores the action: the actor is
+    untouched. Unfiltered (``bc_q_filter: false``), the same critic lets every
+    demonstrated transition through."""
     from sb3_contrib import TQC
 
     model = _demonstrated_model(TQC, her=True)
     with torch.no_grad():
         for net in model.critic.q_networks:
             net[-1].weight.zero_()  # each quantile is its bias alone
-    before = [p.detach().clone() for p in model.actor.parameters()]
-    attach(model, model.replay_buffer.size(), steps=100, weight=1.0)
+    before, error = [p.detach().clone() for p in model.actor.parameters()], _action_error(model)
+    attach(model, model.replay_buffer.size(), steps=100, weight=1.0, q_filter=q_filter)
     _pure_cloning_steps(model, 20)
-    for p, q in zip(before, model.actor.parameters()):
-        assert torch.equal(p, q)
+    if q_filter:
+        for p, q in zip(before, model.actor.parameters()):
+            assert torch.equal(p, q)
+    else:
+        assert _action_error(model) < 0.9 * error
 
 
 def test_a_resumed_run_keeps_the_loss(tmp_path):
     """SB3 writes its training log every 4 episodes: at step 200 here, after the resume at
     100, so the loss in the log was computed by a hook the resumed run attached."""
     run = tmp_path / "run"
-    settings = {"bc_steps": 0, "bc_weight": 1.0}
+    settings = {"bc_steps": 0, "bc_weight": 1.0, "bc_q_filter": False}
     interrupt_after_first_checkpoint(run, lambda: train(_request(run, **settings), progress=False, threads=1,
                                                          log=lambda msg: None))
     assert not {"train/bc_loss", "train/bc_q_filter"} & tb_tags(run)
-    assert json.loads((run / "demonstrations.json").read_text())["cloning_loss_weight"] == 1.0
+    record = json.loads((run / "demonstrations.json").read_text())
+    assert record["cloning_loss_weight"] == 1.0 and record["cloning_loss_q_filter"] is False
     status = train(_request(run, **settings), progress=False, threads=1, log=lambda msg: None)
     assert status["state"] == "finished"
     assert {"train/bc_loss", "train/bc_q_filter"} <= tb_tags(run)
 
 
 @pytest.mark.parametrize(
-    "weight,demonstrations,message",
+    "weight,demonstrations,q_filter,message",
     [
-        (0.5, 0, "bc_weight=0.5 imitates the demonstrations; set demonstrations to 1 or more episodes"),
-        (-1.0, 5, "bc_weight must be a loss weight, 0 or more; got -1.0"),
-        (float("nan"), 5, "bc_weight must be a loss weight, 0 or more; got nan"),
+        (0.5, 0, True, "bc_weight=0.5 imitates the demonstrations; set demonstrations to 1 or more episodes"),
+        (-1.0, 5, True, "bc_weight must be a loss weight, 0 or more; got -1.0"),
+        (float("nan"), 5, True, "bc_weight must be a loss weight, 0 or more; got nan"),
+        (0.0, 5, False, "bc_q_filter=false changes the cloning loss; set bc_weight above 0 as well"),
     ],
 )
-def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, message):
+def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, q_filter, message):
     with pytest.raises(CloningLossError) as err:
-        check(weight, demonstrations)
+        check(weight, demonstrations, q_filter)
     assert message in str(err.value)
     check(0.0, demonstrations)  # none asked: always fine
 

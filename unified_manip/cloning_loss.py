@@ -10,7 +10,10 @@ own (the Q-filter)::
 with π(s) the actor's deterministic action (a stochastic actor's mean action, squashed).
 The actor then imitates the scripted policy where the scripted policy is better and is
 free to improve on it elsewhere; :mod:`unified_manip.pretrain` is the other half of their
-method, cloning before training.
+method, cloning before training. With ``bc_q_filter: false`` every demonstrated
+transition counts (a fixed cloning regulariser, as in TD3+BC, Fujimoto and Gu 2021): for
+a critic that rates the actor's own actions above the demonstrated ones almost everywhere,
+which is what an untrained critic that the actor maximises tends to do.
 
 The loss goes into every actor update of the algorithm, whatever it is (SAC, TQC,
 CrossQ, TD3): a step pre-hook on the actor's optimiser adds its gradient to the one the
@@ -32,9 +35,11 @@ class CloningLossError(ValueError):
     """A run asked for the cloning loss and cannot have it."""
 
 
-def check(bc_weight: float, demonstrations: int) -> None:
-    """Raise :class:`CloningLossError` unless ``bc_weight`` (0: no loss) is 0 or more and
-    the run has demonstrations to imitate."""
+def check(bc_weight: float, demonstrations: int, q_filter: bool = True) -> None:
+    """Raise :class:`CloningLossError` unless ``bc_weight`` (0: no loss) is 0 or more, the
+    run has demonstrations to imitate, and the filter is left alone without the loss."""
+    if not q_filter and not bc_weight:
+        raise CloningLossError("bc_q_filter=false changes the cloning loss; set bc_weight above 0 as well")
     if not bc_weight >= 0:
         raise CloningLossError(f"bc_weight must be a loss weight, 0 or more; got {bc_weight}")
     if bc_weight and not demonstrations:
@@ -42,10 +47,10 @@ def check(bc_weight: float, demonstrations: int) -> None:
                                "episodes")
 
 
-def attach(model, transitions: int, steps: int, weight: float):
-    """Add the Q-filtered cloning loss of weight ``weight`` to every later actor update of
-    ``model``, on the first ``transitions`` transitions of its replay buffer (the
-    demonstrations) for a run of ``steps`` env steps in all.
+def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = True):
+    """Add the cloning loss of weight ``weight`` (Q-filtered unless ``q_filter`` is false)
+    to every later actor update of ``model``, on the first ``transitions`` transitions of
+    its replay buffer (the demonstrations) for a run of ``steps`` env steps in all.
 
     Returns the hook's handle (``.remove()`` detaches it). Raises :class:`CloningLossError`
     where the buffer would overwrite the demonstrations before the run ends.
@@ -57,15 +62,15 @@ def attach(model, transitions: int, steps: int, weight: float):
         raise CloningLossError(f"bc_weight needs the demonstrations kept in the replay buffer: buffer_size must be at "
                                f"least {needed * buffer.n_envs} transitions ({transitions} demonstrated + {steps} "
                                f"steps); got {buffer.buffer_size * buffer.n_envs}")
-    loss = _QFilteredCloning(model, rows, weight)
+    loss = _Cloning(model, rows, weight, q_filter)
     return model.actor.optimizer.register_step_pre_hook(lambda optimizer, args, kwargs: loss.backward())
 
 
-class _QFilteredCloning:
-    """Adds ``weight`` × the Q-filtered cloning loss's gradient to the actor's parameters."""
+class _Cloning:
+    """Adds ``weight`` × the (Q-filtered) cloning loss's gradient to the actor's parameters."""
 
-    def __init__(self, model, rows: int, weight: float):
-        self.model, self.rows, self.weight = model, rows, weight
+    def __init__(self, model, rows: int, weight: float, q_filter: bool):
+        self.model, self.rows, self.weight, self.q_filter = model, rows, weight, q_filter
 
     def backward(self) -> None:
         import torch
@@ -74,7 +79,8 @@ class _QFilteredCloning:
         observations, actions = self._batch()
         mine = model.policy._predict(observations, deterministic=True)
         with torch.no_grad():
-            better = self._q(observations, actions) > self._q(observations, mine)
+            better = (self._q(observations, actions) > self._q(observations, mine) if self.q_filter
+                      else torch.ones(len(actions), dtype=torch.bool, device=actions.device))
         errors = ((mine - actions) ** 2).sum(dim=1)
         loss = self.weight * (better.float() * errors).mean()
         loss.backward()

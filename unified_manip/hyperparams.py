@@ -34,6 +34,7 @@ RUN_KEYS: dict[str, type] = {
     "demonstrations": int,  # off-policy: episodes of the scripted policy put in the replay buffer first
     "bc_steps": int,  # with demonstrations: actor gradient steps of behaviour cloning on them before training
     "bc_weight": float,  # with demonstrations: weight of a Q-filtered cloning loss in every actor update
+    "bc_q_filter": bool,  # with bc_weight: keep the loss only where Q rates the demonstrated action higher (default true)
 }
 
 

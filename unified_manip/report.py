@@ -43,10 +43,11 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
               if r["demonstrations"].get("behaviour_cloning")]
     cloning = (f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
                f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)." if cloned else "")
-    weights = [r["demonstrations"]["cloning_loss_weight"] for r in demonstrated
-               if r["demonstrations"].get("cloning_loss_weight")]
-    loss = (f" {len(weights)} of them kept a Q-filtered cloning loss on them in every actor update (weight "
-            f"{', '.join(f'{w:g}' for w in sorted(set(weights)))})." if weights else "")
+    losses = [(r["demonstrations"]["cloning_loss_weight"], r["demonstrations"].get("cloning_loss_q_filter", True))
+              for r in demonstrated if r["demonstrations"].get("cloning_loss_weight")]
+    loss = (f" {len(losses)} of them kept a cloning loss on them in every actor update ("
+            + "; ".join(f"weight {w:g}, {'Q-filtered' if q else 'unfiltered'}" for w, q in sorted(set(losses)))
+            + ")." if losses else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
             f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}{loss}")

@@ -157,7 +157,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             if params.get("demonstrations"):
                 _demonstrate(model, req, n_envs, params, log)
         if params.get("bc_weight"):
-            _keep_cloning(model, req, params["bc_weight"])
+            _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True))
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -232,17 +232,19 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
             f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})")
     if params.get("bc_weight"):
         done["cloning_loss_weight"] = params["bc_weight"]
+        done["cloning_loss_q_filter"] = params.get("bc_q_filter", True)
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
 
 
-def _keep_cloning(model, req: TrainRequest, weight: float) -> None:
-    """Add the Q-filtered cloning loss on the recorded demonstrations to every actor
-    update from here on (:mod:`unified_manip.cloning_loss`; a resumed run adds it again)."""
+def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool) -> None:
+    """Add the cloning loss (Q-filtered unless ``q_filter`` is false) on the recorded
+    demonstrations to every actor update from here on (:mod:`unified_manip.cloning_loss`;
+    a resumed run adds it again)."""
     from .cloning_loss import CloningLossError, attach
 
     done = json.loads((req.directory / "demonstrations.json").read_text())
     try:
-        attach(model, done["transitions"], req.steps, weight)
+        attach(model, done["transitions"], req.steps, weight, q_filter)
     except CloningLossError as err:
         raise TrainError(f"{req.directory}: {err}") from None
 
