@@ -88,17 +88,14 @@ class _Cloning:
         model.logger.record_mean("train/bc_q_filter", float(better.float().mean().item()))
 
     def _batch(self) -> tuple[Any, Any]:
-        import torch
-
         model = self.model
         buffer = model.replay_buffer
         rows = np.random.randint(0, self.rows, size=model.batch_size)
         envs = np.random.randint(0, buffer.n_envs, size=model.batch_size)
-        observations = {key: value[rows, envs] for key, value in buffer.observations.items()}
-        if model._vec_normalize_env is not None:
-            observations = model._vec_normalize_env.normalize_obs(observations)
-        tensors = {key: torch.as_tensor(value, device=model.device) for key, value in observations.items()}
-        return tensors, torch.as_tensor(buffer.actions[rows, envs], device=model.device)
+        observations = buffer._normalize_obs({key: value[rows, envs] for key, value in buffer.observations.items()},
+                                             model._vec_normalize_env)  # as the buffer's own samples are
+        return ({key: buffer.to_torch(value) for key, value in observations.items()},
+                buffer.to_torch(buffer.actions[rows, envs]))
 
     def _q(self, observations, actions):
         import torch
