@@ -182,6 +182,26 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     assert "already finished at 1000 steps" in again.stdout
 
 
+# ---------------------------------------------------------------------- reproducibility
+def test_a_seed_trains_bit_for_bit_on_one_machine(tmp_path):
+    """The same command twice, the benchmark's recipe shape (TQC+HER, parallel native envs,
+    scripted demonstrations, observation normalisation): the same weights, evaluations and
+    training episodes, to the bit. (Across CPU kinds the floats differ; see the README.)"""
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    extra = ["n_envs=2", "demonstrations=2", "learning_starts=100"]
+    runs = [tmp_path / "a", tmp_path / "b", tmp_path / "other_seed"]
+    for run_dir, seed in zip(runs, ["0", "0", "1"]):
+        cli(*train_args("UnifiedManip/Arm4Push-v0", "tqc_her", 300, run_dir, extra), "--vec", "native", "--seed", seed)
+    first, second, other = (load_from_zip_file(run_dir / "final_model.zip", device="cpu")[1]["policy"] for run_dir in runs)
+    assert first.keys() == second.keys()
+    assert all(np.array_equal(first[k].numpy(), second[k].numpy()) for k in first)
+    assert not all(np.array_equal(first[k].numpy(), other[k].numpy()) for k in first)  # the check can fail
+    evaluations = [np.load(run_dir / "eval" / "evaluations.npz") for run_dir in runs]
+    assert np.array_equal(evaluations[0]["results"], evaluations[1]["results"])
+    assert [(r["r"], r["l"]) for r in monitor_rows(runs[0])] == [(r["r"], r["l"]) for r in monitor_rows(runs[1])]
+
+
 # ---------------------------------------------------------------------- eval
 @pytest.fixture(scope="module")
 def trained_run(tmp_path_factory) -> Path:
