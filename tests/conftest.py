@@ -46,6 +46,41 @@ def random_actions(env: gym.Env, n: int, seed: int = 0) -> np.ndarray:
     return rng.uniform(-1.0, 1.0, size=(n,) + env.action_space.shape).astype(np.float32)
 
 
+DEMO_TASK = "UnifiedManip/Arm4PickAndPlace-v0"
+DEMO_MODE = "joint_position"
+
+
+def demonstrated_model(algo_cls, her: bool, normalize: bool = False):
+    """A fresh ``algo_cls`` model on Arm4PickAndPlace-v0 in joint_position (the mode the
+    demonstration levers are for), its replay buffer holding two scripted episodes."""
+    from stable_baselines3 import HerReplayBuffer
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    from unified_manip.demonstrations import prefill
+    from unified_manip.vecenvs import make_vec_env
+
+    kwargs = {"action_mode": DEMO_MODE, "reward_type": "sparse"}
+    venv = make_vec_env(DEMO_TASK, kwargs, 1, 3, None, "dummy")
+    extra = {"replay_buffer_class": HerReplayBuffer} if her else {}
+    env = make_vec_env(DEMO_TASK, kwargs, 1, 0, None, "dummy")
+    env = VecNormalize(env, norm_reward=False) if normalize else env
+    model = algo_cls("MultiInputPolicy", env, buffer_size=2000, learning_starts=10, batch_size=64, seed=0, **extra)
+    prefill(model, venv, DEMO_TASK, DEMO_MODE, episodes=2)
+    venv.close()
+    return model
+
+
+def resume_to_the_end(request) -> list[str]:
+    """Train ``request`` (a run interrupted after its first checkpoint) to the end, check
+    that it resumed and finished, and return what it logged."""
+    from unified_manip.train import train
+
+    logged: list[str] = []
+    assert train(request, progress=False, threads=1, log=logged.append)["state"] == "finished"
+    assert any("resuming from step" in line for line in logged), logged
+    return logged
+
+
 _GC_EVERY = 20
 _tests_since_gc = 0
 

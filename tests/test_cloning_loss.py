@@ -16,8 +16,8 @@ import sys
 
 import pytest
 import torch
-from conftest import interrupt_after_first_checkpoint
-from test_pretrain import ARM, MODE, _action_error, _demonstrated_model, _request
+from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_first_checkpoint
+from test_pretrain import _action_error, _request
 from test_train import tb_tags
 
 from unified_manip.cloning_loss import CloningLossError, attach, check
@@ -41,7 +41,7 @@ def test_the_loss_pulls_the_actor_toward_the_demonstrations(algo):
     from sb3_contrib import TQC
     from stable_baselines3 import TD3
 
-    model = _demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
+    model = demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
     before = _action_error(model)
     attach(model, model.replay_buffer.size(), steps=100, weight=1.0)
     _pure_cloning_steps(model, 300)
@@ -55,7 +55,7 @@ def test_a_critic_that_rates_every_action_alike_filters_everything_out(q_filter)
     demonstrated transition through."""
     from sb3_contrib import TQC
 
-    model = _demonstrated_model(TQC, her=True)
+    model = demonstrated_model(TQC, her=True)
     with torch.no_grad():
         for net in model.critic.q_networks:
             net[-1].weight.zero_()  # each quantile is its bias alone
@@ -103,7 +103,7 @@ def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, q_fi
 def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
     from sb3_contrib import TQC
 
-    model = _demonstrated_model(TQC, her=True)  # buffer_size 2000
+    model = demonstrated_model(TQC, her=True)  # buffer_size 2000
     demonstrated = model.replay_buffer.size()
     with pytest.raises(CloningLossError, match=f"buffer_size must be at least 2001 transitions [(]{demonstrated} "):
         attach(model, demonstrated, steps=2001 - demonstrated, weight=1.0)
@@ -117,7 +117,7 @@ def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
 def test_the_cli_refuses_in_one_line(tmp_path, sets, message):
     args = [a for s in sets for a in ("--set", s)]
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", ARM, "--action-mode", MODE, "--algo", "tqc_her",
+        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--action-mode", DEMO_MODE, "--algo", "tqc_her",
          "--steps", "200", *args, "--set", "n_envs=1", "--run-dir", str(tmp_path / "r"), "--no-progress"],
         capture_output=True, text=True, timeout=300,
     )

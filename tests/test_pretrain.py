@@ -4,7 +4,7 @@ The contract: N actor gradient steps on the demonstrations bring the actor's own
 on the demonstrated observations closer to the demonstrated actions, for a stochastic
 (TQC) and a deterministic (TD3) actor; a run records them once (a resumed run does not
 clone again); asking for them without demonstrations, or a negative count, is a clear
-error, one line with exit 2 from the CLI.
+error, one line with exit 2 from the CLI (and so is asking that of ``offline_steps``).
 """
 
 from __future__ import annotations
@@ -16,33 +16,12 @@ import sys
 import numpy as np
 import pytest
 import torch
-from conftest import interrupt_after_first_checkpoint
+from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_first_checkpoint, resume_to_the_end
 
-from unified_manip.demonstrations import prefill
-from unified_manip.pretrain import PretrainError, behaviour_clone, check
+from unified_manip.offline import OfflineError
+from unified_manip.pretrain import PretrainError, behaviour_clone, check_settings, seed_statistics
 from unified_manip.request import TrainRequest
 from unified_manip.train import train
-
-ARM = "UnifiedManip/Arm4PickAndPlace-v0"
-MODE = "joint_position"  # the mode the lever is for
-
-
-def _demonstrated_model(algo_cls, her: bool, normalize: bool = False):
-    from stable_baselines3 import HerReplayBuffer
-    from stable_baselines3.common.vec_env import VecNormalize
-
-    from unified_manip.vecenvs import make_vec_env
-
-    kwargs = {"action_mode": MODE, "reward_type": "sparse"}
-    venv = make_vec_env(ARM, kwargs, 1, 3, None, "dummy")
-    extra = {"replay_buffer_class": HerReplayBuffer} if her else {}
-    env = make_vec_env(ARM, kwargs, 1, 0, None, "dummy")
-    env = VecNormalize(env, norm_reward=False) if normalize else env
-    model = algo_cls("MultiInputPolicy", env, buffer_size=2000, learning_starts=10, batch_size=64, seed=0, **extra)
-    prefill(model, venv, ARM, MODE, episodes=2)
-    venv.close()
-    return model
-
 
 def _action_error(model) -> float:
     """Mean absolute difference between the actor's deterministic actions and the stored
@@ -60,7 +39,7 @@ def test_cloning_brings_the_actors_actions_to_the_demonstrated_ones(algo):
     from sb3_contrib import TQC
     from stable_baselines3 import TD3
 
-    model = _demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
+    model = demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
     before = _action_error(model)
     done = behaviour_clone(model, 300)
     after = _action_error(model)
@@ -77,10 +56,10 @@ def test_a_normalising_runs_statistics_start_from_the_demonstrations():
     identity until the first rollout, and change under the cloned actor)."""
     from sb3_contrib import TQC
 
-    model = _demonstrated_model(TQC, her=True, normalize=True)
+    model = demonstrated_model(TQC, her=True, normalize=True)
     stats = model._vec_normalize_env.obs_rms
     assert np.allclose(stats["observation"].mean, 0.0)  # nothing seen yet
-    behaviour_clone(model, 1)
+    seed_statistics(model)  # what a run does before cloning (or offline steps)
     stored = model.replay_buffer.observations
     rows = model.replay_buffer.size()
     for key in ("observation", "desired_goal"):
@@ -92,7 +71,7 @@ def _request(run_dir, **overrides) -> TrainRequest:
     settings = {"demonstrations": 2, "bc_steps": 20, "learning_starts": 50, "batch_size": 32, "eval_freq": 1000,
                 "n_eval_episodes": 1, "checkpoint_freq": 100, "n_envs": 1}
     settings.update(overrides)
-    return TrainRequest(env=ARM, action_mode=MODE, reward_type="sparse", algo="tqc_her", steps=200,
+    return TrainRequest(env=DEMO_TASK, action_mode=DEMO_MODE, reward_type="sparse", algo="tqc_her", steps=200,
                         run_dir=run_dir, overrides=tuple(f"{k}={v}" for k, v in settings.items()))
 
 
@@ -106,31 +85,37 @@ def test_a_run_clones_once_and_records_it(tmp_path):
     assert record["episodes"] == 2 and record["behaviour_cloning"]["steps"] == 20
     assert np.isfinite([record["behaviour_cloning"]["loss_first"], record["behaviour_cloning"]["loss_last"]]).all()
     assert sum("behaviour cloning, 20 actor steps on the demonstrations" in line for line in first) == 1
-    again: list[str] = []
-    status = train(_request(run), progress=False, threads=1, log=again.append)
-    assert status["state"] == "finished"
-    assert any("resuming from step" in line for line in again), again
+    again = resume_to_the_end(_request(run))
     assert not any("behaviour cloning" in line for line in again), again
 
 
 @pytest.mark.parametrize(
-    "bc_steps,demonstrations,message",
+    "settings,error,message",
     [
-        (10, 0, "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
-        (-1, 5, "bc_steps must be a number of gradient steps, 0 or more; got -1"),
+        ({"bc_steps": 10, "demonstrations": 0}, PretrainError,
+         "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
+        ({"bc_steps": -1, "demonstrations": 5}, PretrainError,
+         "bc_steps must be a number of gradient steps, 0 or more; got -1"),
+        ({"offline_steps": 10, "demonstrations": 0}, OfflineError,
+         "offline_steps=10 learns from the demonstrations alone; set demonstrations to 1 or more episodes"),
+        ({"offline_steps": -1, "demonstrations": 5}, OfflineError,
+         "offline_steps must be a number of gradient steps, 0 or more; got -1"),
     ],
 )
-def test_cloning_without_demonstrations_is_refused(bc_steps, demonstrations, message):
-    with pytest.raises(PretrainError) as err:
-        check(bc_steps, demonstrations)
+def test_pretraining_without_demonstrations_is_refused(settings, error, message):
+    """Cloning (bc_steps) and offline steps (offline_steps, :mod:`unified_manip.offline`)
+    both need demonstrations and a count of 0 or more."""
+    with pytest.raises(error) as err:
+        check_settings(DEMO_TASK, DEMO_MODE, True, settings)
     assert message in str(err.value)
-    check(0, demonstrations)  # none asked: always fine
+    check_settings(DEMO_TASK, DEMO_MODE, True, {"demonstrations": settings["demonstrations"]})  # none asked: fine
 
 
-def test_the_cli_refuses_cloning_without_demonstrations_in_one_line(tmp_path):
+@pytest.mark.parametrize("key", ["bc_steps", "offline_steps"])
+def test_the_cli_refuses_pretraining_without_demonstrations_in_one_line(tmp_path, key):
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", ARM, "--algo", "tqc_her", "--steps", "10",
-         "--set", "demonstrations=0", "--set", "bc_steps=100", "--run-dir", str(tmp_path / "r"), "--no-progress"],
+        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--algo", "tqc_her", "--steps", "10",
+         "--set", "demonstrations=0", "--set", f"{key}=100", "--run-dir", str(tmp_path / "r"), "--no-progress"],
         capture_output=True, text=True, timeout=300,
     )
     assert proc.returncode == 2

@@ -13,7 +13,7 @@ under a stochastic actor (SAC, TQC, CrossQ: a tanh-squashed Gaussian, so the act
 standard deviation shrinks to fit the demonstrations too; see :data:`EDGE`), the squared error of a
 deterministic actor's action (TD3). Batches come through the buffer's ``sample``
 (a normalising run's statistics start from the demonstrations, see
-:func:`_seed_statistics`) with the goals the demonstrations acted
+:func:`seed_statistics`) with the goals the demonstrations acted
 for: a HER buffer relabels none of them here, as a demonstrated action toward one goal
 is no example of acting toward another.
 """
@@ -38,15 +38,18 @@ def check(bc_steps: int, demonstrations: int) -> None:
 
 def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dict[str, Any]) -> None:
     """Raise a ``ValueError`` unless a run with hyperparameters ``params`` can take the
-    demonstrations (:func:`unified_manip.demonstrations.check`) and the cloning it asks for
-    (before training, and the loss during it: :func:`unified_manip.cloning_loss.check`):
+    demonstrations (:func:`unified_manip.demonstrations.check`), the cloning it asks for
+    (before training, and the loss during it: :func:`unified_manip.cloning_loss.check`) and
+    the offline steps (:func:`unified_manip.offline.check`):
     what ``train`` and a grid's loading both check before anything starts."""
     from .cloning_loss import check as check_cloning_loss
     from .demonstrations import check as check_demonstrations
+    from .offline import check as check_offline
 
     episodes = params.get("demonstrations", 0)
     check_demonstrations(task_id, action_mode, off_policy, episodes)
     check(params.get("bc_steps", 0), episodes)
+    check_offline(params.get("offline_steps", 0), episodes)
     check_cloning_loss(params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True))
 
 
@@ -68,12 +71,16 @@ def _loss(actor, observations, actions):
     return F.mse_loss(actor(observations), actions)
 
 
-def _seed_statistics(venv, buffer) -> None:
-    """Start a normalising run's observation statistics (``VecNormalize``, None: the run
-    does not normalise) from the demonstrated observations in ``buffer``, so the actor is
-    fitted to inputs normalised as its first rollouts' will be; the agent's own
-    observations then update them as usual. Unseeded they are the identity until the
-    first rollout, and the cloned actor would face other inputs from its first update on."""
+def seed_statistics(model) -> None:
+    """Start a normalising run's observation statistics (its ``VecNormalize``; nothing
+    where the run does not normalise) from the demonstrated observations in its replay
+    buffer, so what is fitted before the first rollout (:func:`behaviour_clone`,
+    :func:`unified_manip.offline.learn_offline`) sees inputs normalised as its first
+    rollouts' will be; the agent's own observations then update them as usual. Unseeded
+    they are the identity until the first rollout, and the fitted networks would face
+    other inputs from their first update on. Call it once, after the demonstrations are
+    stored and before either."""
+    venv, buffer = model._vec_normalize_env, model.replay_buffer
     if venv is None or not venv.norm_obs:
         return
     rows = buffer.size()
@@ -85,13 +92,13 @@ def _seed_statistics(venv, buffer) -> None:
 
 def behaviour_clone(model, steps: int) -> dict[str, Any]:
     """Fit ``model.actor`` to the actions in ``model.replay_buffer`` for ``steps`` gradient
-    steps of ``model.batch_size`` with the actor's own optimiser.
+    steps of ``model.batch_size`` with the actor's own optimiser (a normalising run calls
+    :func:`seed_statistics` first).
 
     Returns ``{"steps", "loss_first", "loss_last"}``: the loss of the first and of the
     last batch (each averaged over the batch).
     """
     buffer = model.replay_buffer
-    _seed_statistics(model._vec_normalize_env, buffer)
     her_ratio = getattr(buffer, "her_ratio", None)
     if her_ratio is not None:  # the goals the demonstrations acted for, none relabelled
         buffer.her_ratio = 0.0

@@ -43,6 +43,9 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
               if r["demonstrations"].get("behaviour_cloning")]
     cloning = (f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
                f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)." if cloned else "")
+    offline = [r["demonstrations"]["offline"]["steps"] for r in demonstrated if r["demonstrations"].get("offline")]
+    learned = (f" {len(offline)} of them took {', '.join(f'{s:,}' for s in sorted(set(offline)))} gradient steps of "
+               "the algorithm's own update on them alone before the first rollout." if offline else "")
     losses = [(r["demonstrations"]["cloning_loss_weight"], r["demonstrations"].get("cloning_loss_q_filter", True))
               for r in demonstrated if r["demonstrations"].get("cloning_loss_weight")]
     loss = (f" {len(losses)} of them kept a cloning loss on them in every actor update ("
@@ -50,7 +53,7 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
             + ")." if losses else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
-            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}{loss}")
+            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}{learned}{loss}")
 
 
 def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:

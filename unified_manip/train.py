@@ -158,6 +158,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
                 _demonstrate(model, req, n_envs, params, log)
         if params.get("bc_weight"):
             _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True))
+        if not candidates and params.get("offline_steps"):  # with the cloning loss, if any, in its actor updates
+            _learn_offline(model, req, params["offline_steps"], log)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -211,11 +213,12 @@ def _default_threads() -> int:
 def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], log) -> None:
     """Fill the new model's replay buffer with the scripted policy's ``demonstrations``
     episodes, played in envs of their own (see :mod:`unified_manip.demonstrations`), then
-    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`).
+    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`),
+    after seeding a normalising run's statistics from them where it clones or learns offline.
     ``demonstrations.json`` records both, and the weight of the cloning loss kept during
     training (``bc_weight``, :func:`_keep_cloning`); results.csv carries it."""
     from .demonstrations import SEED_OFFSET, prefill
-    from .pretrain import behaviour_clone
+    from .pretrain import behaviour_clone, seed_statistics
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
     venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
@@ -226,6 +229,8 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
     log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer")
     bc_steps = params.get("bc_steps", 0)
+    if bc_steps or params.get("offline_steps"):
+        seed_statistics(model)
     if bc_steps:
         cloned = done["behaviour_cloning"] = behaviour_clone(model, bc_steps)
         log(f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
@@ -234,6 +239,20 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
         done["cloning_loss_weight"] = params["bc_weight"]
         done["cloning_loss_q_filter"] = params.get("bc_q_filter", True)
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
+
+
+def _learn_offline(model, req: TrainRequest, steps: int, log) -> None:
+    """Take ``steps`` of the algorithm's own updates on the demonstrations alone
+    (:mod:`unified_manip.offline`) and add them to ``demonstrations.json``."""
+    from .offline import learn_offline
+
+    path = req.directory / "demonstrations.json"
+    done = json.loads(path.read_text())
+    learned = done["offline"] = learn_offline(model, steps)
+    first, last = learned["first"].get("train/critic_loss"), learned["last"].get("train/critic_loss")
+    log(f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
+        + (f" (critic loss {first:.3f} -> {last:.3f})" if first is not None and last is not None else ""))
+    write_atomic(path, json.dumps(done, indent=2) + "\n")
 
 
 def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool) -> None:
