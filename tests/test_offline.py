@@ -41,14 +41,16 @@ def _returns_and_values(model) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("algo", ["tqc_her", "td3"])
-def test_offline_steps_fit_the_critic_to_the_demonstrated_returns(algo):
+def test_offline_steps_fit_the_critic_to_the_demonstrated_returns(algo, capsys):
     from sb3_contrib import TQC
     from stable_baselines3 import TD3
 
     model = demonstrated_model(TQC if algo == "tqc_her" else TD3, her=algo == "tqc_her")
     before = np.corrcoef(*_returns_and_values(model))[0, 1]
     actor = [p.detach().clone() for p in model.actor.parameters()]
-    done = learn_offline(model, 200)
+    done = learn_offline(model, 200, progress=True)
+    shown = capsys.readouterr().err  # the progress bar
+    assert "offline steps" in shown and "200/200" in shown, shown
     after = np.corrcoef(*_returns_and_values(model))[0, 1]
     assert after > 0.75 and after > before + 0.2, (before, after)  # untrained: -0.44 (TQC), 0.54 (TD3)
     assert done["steps"] == 200 and model._n_updates == 200
@@ -79,3 +81,13 @@ def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path
     assert sum("30 offline steps of tqc_her on the demonstrations alone (critic loss" in line for line in first) == 1
     again = resume_to_the_end(_request(run))
     assert not any("offline steps" in line for line in again), again
+
+
+@pytest.mark.parametrize("steps", [0, 1, 2, 3, 252, 253, 10000])
+def test_the_steps_run_in_chunks_with_the_first_and_last_alone(steps):
+    from unified_manip.offline import CHUNK, _chunks
+
+    chunks = _chunks(steps)
+    assert sum(chunks) == steps and all(0 < c <= CHUNK for c in chunks)
+    if steps:
+        assert chunks[0] == 1 and chunks[-1] == 1

@@ -40,24 +40,40 @@ def check(offline_steps: int, demonstrations: int) -> None:
 RECORDED = ("train/critic_loss", "train/actor_loss", "train/ent_coef", "train/bc_loss", "train/bc_q_filter")
 
 
-def learn_offline(model, steps: int) -> dict[str, Any]:
+#: Updates between progress-bar refreshes (the update itself runs in chunks of this many).
+CHUNK = 250
+
+
+def _chunks(steps: int) -> list[int]:
+    """``steps`` split so that the first and the last step each stand alone (their losses
+    are the record's ``first`` and ``last``) and the rest come in chunks of :data:`CHUNK`."""
+    if steps < 3:
+        return [1] * steps
+    middle = [CHUNK] * ((steps - 2) // CHUNK) + ([(steps - 2) % CHUNK] if (steps - 2) % CHUNK else [])
+    return [1, *middle, 1]
+
+
+def learn_offline(model, steps: int, progress: bool = False) -> dict[str, Any]:
     """Take ``steps`` gradient steps of ``model.train`` with the model's batch size on what
-    its replay buffer holds now (the demonstrations: see the module docstring).
+    its replay buffer holds now (the demonstrations: see the module docstring), with a
+    progress bar if ``progress``.
 
     Returns ``{"steps", "first", "last"}``: the values :data:`RECORDED` that the update
     logged at its first and at its last step (a name the algorithm does not log is left
     out; the critic loss of a step is the mean over its batch).
     """
     from stable_baselines3.common.logger import Logger
+    from tqdm import tqdm
 
     # learn() has not set a logger up yet; this one keeps the values in memory only, and
     # learn() replaces it with the run's own (no custom logger was set).
     model._logger = Logger(folder=None, output_formats=[])
-    chunks = [1, steps - 2, 1] if steps >= 3 else [1] * steps
     seen = []
-    for chunk in chunks:
-        model.train(gradient_steps=chunk, batch_size=model.batch_size)
-        seen.append({name: float(model.logger.name_to_value[name]) for name in RECORDED
-                     if name in model.logger.name_to_value})
-        model.logger.dump()  # the next chunk's values alone
+    with tqdm(total=steps, desc="offline steps", unit="update", disable=not progress, dynamic_ncols=True) as bar:
+        for chunk in _chunks(steps):
+            model.train(gradient_steps=chunk, batch_size=model.batch_size)
+            seen.append({name: float(model.logger.name_to_value[name]) for name in RECORDED
+                         if name in model.logger.name_to_value})
+            model.logger.dump()  # the next chunk's values alone
+            bar.update(chunk)
     return {"steps": steps, "first": seen[0] if seen else {}, "last": seen[-1] if seen else {}}

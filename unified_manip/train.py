@@ -159,7 +159,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         if params.get("bc_weight"):
             _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True))
         if not candidates and params.get("offline_steps"):  # with the cloning loss, if any, in its actor updates
-            _learn_offline(model, req, params["offline_steps"], log)
+            _learn_offline(model, req, params["offline_steps"], log, progress)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -241,14 +241,14 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
 
 
-def _learn_offline(model, req: TrainRequest, steps: int, log) -> None:
+def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) -> None:
     """Take ``steps`` of the algorithm's own updates on the demonstrations alone
     (:mod:`unified_manip.offline`) and add them to ``demonstrations.json``."""
     from .offline import learn_offline
 
     path = req.directory / "demonstrations.json"
     done = json.loads(path.read_text())
-    learned = done["offline"] = learn_offline(model, steps)
+    learned = done["offline"] = learn_offline(model, steps, progress)
     first, last = learned["first"].get("train/critic_loss"), learned["last"].get("train/critic_loss")
     log(f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
         + (f" (critic loss {first:.3f} -> {last:.3f})" if first is not None and last is not None else ""))
