@@ -51,8 +51,8 @@ def test_the_loss_pulls_the_actor_toward_the_demonstrations(algo):
 @pytest.mark.parametrize("q_filter", [True, False])
 def test_a_critic_that_rates_every_action_alike_filters_everything_out(q_filter):
     """Q(s, a_demo) > Q(s, π(s)) never holds when Q ignores the action: the actor is
-    untouched. Unfiltered (``bc_q_filter: false``), the same critic lets every
-    demonstrated transition through."""
+    untouched (its distance to the demonstrations is logged all the same). Unfiltered
+    (``bc_q_filter: false``), the same critic lets every demonstrated transition through."""
     from sb3_contrib import TQC
 
     model = demonstrated_model(TQC, her=True)
@@ -62,11 +62,15 @@ def test_a_critic_that_rates_every_action_alike_filters_everything_out(q_filter)
     before, error = [p.detach().clone() for p in model.actor.parameters()], _action_error(model)
     attach(model, model.replay_buffer.size(), steps=100, weight=1.0, q_filter=q_filter)
     _pure_cloning_steps(model, 20)
+    logged = model.logger.name_to_value
     if q_filter:
         for p, q in zip(before, model.actor.parameters()):
             assert torch.equal(p, q)
+        assert logged["train/bc_loss"] == 0.0 and logged["train/bc_q_filter"] == 0.0
     else:
         assert _action_error(model) < 0.9 * error
+        assert logged["train/bc_q_filter"] == 1.0
+    assert logged["train/bc_error"] > 0.0  # how far the actor is, filtered or not
 
 
 def test_a_resumed_run_keeps_the_loss(tmp_path):

@@ -86,6 +86,7 @@ class _Cloning:
         loss.backward()
         model.logger.record_mean("train/bc_loss", float(loss.item()))
         model.logger.record_mean("train/bc_q_filter", float(better.float().mean().item()))
+        model.logger.record_mean("train/bc_error", float(errors.mean().item()))  # unfiltered, unweighted
 
     def _batch(self) -> tuple[Any, Any]:
         model = self.model

@@ -37,7 +37,8 @@ def check(offline_steps: int, demonstrations: int) -> None:
 
 
 #: Logged by the update (and by the cloning loss), recorded at the first and last step.
-RECORDED = ("train/critic_loss", "train/actor_loss", "train/ent_coef", "train/bc_loss", "train/bc_q_filter")
+RECORDED = ("train/critic_loss", "train/actor_loss", "train/ent_coef", "train/bc_loss", "train/bc_q_filter",
+            "train/bc_error")
 
 
 #: Updates between progress-bar refreshes (the update itself runs in chunks of this many).
