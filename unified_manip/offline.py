@@ -42,6 +42,9 @@ RECORDED = ("train/critic_loss", "train/actor_loss", "train/ent_coef", "train/bc
 
 
 #: Updates between progress-bar refreshes (the update itself runs in chunks of this many).
+#: Each chunk is one ``train`` call: SAC's and TQC's ``target_update_interval`` counts
+#: within a call, so above 1 (every shipped entry has 1) a chunk's first step also
+#: updates the targets; TD3's and CrossQ's ``policy_delay`` count over all updates.
 CHUNK = 250
 
 
