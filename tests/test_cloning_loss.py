@@ -121,8 +121,8 @@ def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
 def test_the_cli_refuses_in_one_line(tmp_path, sets, message):
     args = [a for s in sets for a in ("--set", s)]
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--action-mode", DEMO_MODE, "--algo", "tqc_her",
-         "--steps", "200", *args, "--set", "n_envs=1", "--run-dir", str(tmp_path / "r"), "--no-progress"],
+        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--action-mode", DEMO_MODE,
+         "--algo", "tqc_her", "--steps", "200", *args, "--set", "n_envs=1", "--run-dir", str(tmp_path / "r"), "--no-progress"],
         capture_output=True, text=True, timeout=300,
     )
     assert proc.returncode == 2, proc.stderr

@@ -15,10 +15,10 @@ import json
 import numpy as np
 import pytest
 import torch
-from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_first_checkpoint, resume_to_the_end
+from conftest import demonstrated_model, interrupt_after_first_checkpoint, resume_to_the_end
+from test_pretrain import _request as pretrain_request
 
 from unified_manip.offline import learn_offline
-from unified_manip.request import TrainRequest
 from unified_manip.train import train
 
 
@@ -58,12 +58,9 @@ def test_offline_steps_fit_the_critic_to_the_demonstrated_returns(algo, capsys):
     assert any(not torch.equal(p, q) for p, q in zip(actor, model.actor.parameters()))  # the actor updated too
 
 
-def _request(run_dir, **overrides) -> TrainRequest:
-    settings = {"demonstrations": 2, "offline_steps": 30, "bc_weight": 1.0, "learning_starts": 50, "batch_size": 32,
-                "eval_freq": 1000, "n_eval_episodes": 1, "checkpoint_freq": 100, "n_envs": 1}
-    settings.update(overrides)
-    return TrainRequest(env=DEMO_TASK, action_mode=DEMO_MODE, reward_type="sparse", algo="tqc_her", steps=200,
-                        run_dir=run_dir, overrides=tuple(f"{k}={v}" for k, v in settings.items()))
+def _request(run_dir):
+    """test_pretrain's short run, with offline steps and the Q-filtered loss in place of cloning."""
+    return pretrain_request(run_dir, bc_steps=0, offline_steps=30, bc_weight=1.0)
 
 
 def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path):

@@ -53,7 +53,8 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
             + ")." if losses else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
-            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget.{cloning}{learned}{loss}")
+            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget."
+            f"{cloning}{learned}{loss}")
 
 
 def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:
