@@ -59,7 +59,8 @@ class StopOnSignal(BaseCallback):
         if self.requested:
             raise KeyboardInterrupt
         self.requested = True
-        os.write(2, b"stopping at the next rollout boundary to write a checkpoint (again to stop at once, without one)\n")
+        os.write(2, b"stopping at the next rollout boundary, after any evaluation in progress, to write a checkpoint"
+                 b" (interrupt again to stop at once, without one)\n")
 
     def _on_rollout_start(self) -> None:
         if self.requested:
