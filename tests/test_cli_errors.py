@@ -118,6 +118,14 @@ CASES = {
     "report claims missing": (
         lambda t: ["report", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")), "--claims", str(t / "c.yaml")],
         "unified-manip report: error: {t}/c.yaml: file not found; expected a YAML file holding a mapping of claim labels"),
+    "plot figure type": (lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.jpg")],
+                         "unified-manip plot: error: argument --out: expected a figure path ending in .png, .svg, .pdf; "
+                         "got '{t}/f.jpg'"),
+    "plot results missing": (lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.png")],
+                             "unified-manip plot: error: {t}/results.csv not found; expected a bench's results.csv"),
+    "plot results empty": (
+        lambda t: ["plot", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")), "--out", str(t / "f.png")],
+        "unified-manip plot: error: {t}/results.csv: no finished runs to plot"),
 }
 
 

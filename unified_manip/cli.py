@@ -120,7 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--width", type=int, default=200)
     p.set_defaults(func=cmd_speed)
 
-    add_commands(sub)  # train, eval, bench, report
+    add_commands(sub)  # train, eval, bench, report, plot
 
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
     p.add_argument("--out", default="demo.png", help="output PNG")

@@ -1,5 +1,5 @@
-"""The experiment subcommands of ``unified-manip``: ``train``, ``eval``, ``bench`` and
-``report``, each with its arguments beside it."""
+"""The experiment subcommands of ``unified-manip``: ``train``, ``eval``, ``bench``,
+``report`` and ``plot``, each with its arguments beside it."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import signal
 import sys
 from pathlib import Path
 
-from .cliargs import env_kwarg, positive_int
+from .cliargs import env_kwarg, figure_path, positive_int, task_ids
 from .config import ACTION_MODES, REWARD_TYPES
 from .devices import DEVICES
 from .hyperparams import ALGOS
@@ -19,7 +19,7 @@ from .vector.factory import VEC_KINDS
 
 
 def add_commands(sub) -> None:
-    """Add ``train``, ``eval``, ``bench`` and ``report`` to the subparsers ``sub``."""
+    """Add ``train``, ``eval``, ``bench``, ``report`` and ``plot`` to the subparsers ``sub``."""
     p = sub.add_parser("train", help="train a Stable-Baselines3 baseline on one task")
     p.add_argument("--env", required=True, choices=list(TASKS), metavar="ID", help="registered task ID")
     p.add_argument("--action-mode", default="native", choices=ACTION_MODES)
@@ -73,6 +73,13 @@ def add_commands(sub) -> None:
     p.add_argument("--claims", help="YAML of claimed results to set beside the measured ones")
     p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
     p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser("plot", help="one figure of success against steps over benches, a panel per task")
+    p.add_argument("results", nargs="+", help="results.csv files written by unified-manip bench")
+    p.add_argument("--out", required=True, type=figure_path, help="output figure (.png, .svg or .pdf)")
+    p.add_argument("--columns", type=positive_int, default=4, help="panels per row")
+    p.add_argument("--tasks", type=task_ids, help="comma-separated IDs: the panels, in this order (default: every task in the files)")
+    p.set_defaults(func=cmd_plot)
 
 
 def cmd_train(args: argparse.Namespace) -> int:
@@ -169,4 +176,15 @@ def cmd_report(args: argparse.Namespace) -> int:
     path = build_report(results, out, command=shlex.join(["unified-manip", *sys.argv[1:]]),
                         dense_check=not args.no_dense_check, claims=claims)
     print(f"wrote {path}")
+    return 0
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from .overview import plot_overview
+
+    for results in map(Path, args.results):
+        if not results.is_file():
+            raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    titles = plot_overview([Path(r) for r in args.results], Path(args.out), columns=args.columns, tasks=args.tasks)
+    print(f"wrote {args.out} ({len(titles)} panels: {', '.join(titles)})")
     return 0

@@ -46,3 +46,14 @@ def env_kwarg(value: str) -> tuple[str, object]:
         return key, yaml.safe_load(raw)
     except yaml.YAMLError:
         raise argparse.ArgumentTypeError(f"{value!r}: {raw!r} is not a YAML literal") from None
+
+
+def figure_path(value: str) -> str:
+    """A figure's output path; its suffix picks the format."""
+    from pathlib import Path
+
+    from .overview import FIGURE_SUFFIXES
+
+    if Path(value).suffix.lower() not in FIGURE_SUFFIXES:
+        raise argparse.ArgumentTypeError(f"expected a figure path ending in {', '.join(FIGURE_SUFFIXES)}; got {value!r}")
+    return value

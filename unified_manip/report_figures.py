@@ -29,7 +29,7 @@ class Bar(NamedTuple):
     values: tuple[float, ...]  # per seed, in seed order
 
 
-def _pyplot():
+def pyplot():
     import matplotlib
 
     matplotlib.use("Agg")
@@ -47,13 +47,23 @@ def _target_lines(targets: dict[str, float] | None) -> list[tuple[float, str]]:
             for level, modes in sorted(modes_at.items())]
 
 
-def _curve_band(runs: list[dict[str, Any]]):
-    """Common eval steps, mean success and a 95% bootstrap band over seeds."""
-    steps = sorted(set.intersection(*(set(t for t, _ in r["curve"]) for r in runs)))
-    table = np.array([[dict(map(tuple, r["curve"]))[t] for t in steps] for r in runs], dtype=float)
+def curve_band(runs: list[dict[str, Any]]):
+    """Eval steps, mean success and a 95% bootstrap band over seeds.
+
+    Seeds evaluated at different steps (one committed Arm4Push-v1 seed was evaluated at
+    10k, 20k, 33,040, 43,040, ...) are read at every step any of them was evaluated at,
+    within the range all of them cover, by linear interpolation between each one's own
+    points. Runs without an evaluation are left out.
+    """
+    curves = [c for c in (np.array(r["curve"], dtype=float).reshape(-1, 2) for r in runs) if len(c)]
+    if not curves:
+        return np.array([]), np.array([]), np.array([]), np.array([])
+    first, last = max(c[0, 0] for c in curves), min(c[-1, 0] for c in curves)
+    steps = sorted({t for c in curves for t in c[:, 0] if first <= t <= last})
+    table = np.array([np.interp(steps, c[:, 0], c[:, 1]) for c in curves])
     mean = table.mean(axis=0)
     low, high = np.full_like(mean, np.nan), np.full_like(mean, np.nan)
-    if len(runs) >= 2:
+    if len(curves) >= 2:
         for i in range(len(steps)):
             low[i], high[i] = bootstrap_ci(table[:, i].tolist(), seed=i)
     return np.array(steps), mean, low, high
@@ -62,10 +72,10 @@ def _curve_band(runs: list[dict[str, Any]]):
 def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
     """Success against steps, one line per setting; ``targets`` (action mode -> success)
     are drawn as dashed lines."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
     for (algo, mode, reward), runs in sorted(groups.items()):
-        steps, mean, low, high = _curve_band(runs)
+        steps, mean, low, high = curve_band(runs)
         line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
         if np.isfinite(low).any():
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
@@ -100,7 +110,7 @@ def final_bars(groups: dict) -> list[Bar]:
 def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
     """Final success per setting as horizontal bars (mean over seeds, 95% bootstrap
     interval, each seed a dot), best on top; one dashed line per target."""
-    plt = _pyplot()
+    plt = pyplot()
     bars = final_bars(groups)
     fig, ax = plt.subplots(figsize=(7, 0.9 + 0.42 * len(bars)), dpi=110)
     y = np.arange(len(bars))[::-1]

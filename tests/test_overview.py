@@ -1,0 +1,64 @@
+"""``unified-manip plot``: one figure over several benches, a panel per task, drawn from the
+committed benchmark results; seeds evaluated at different steps are aligned, not dropped."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from unified_manip.bench import read_results
+from unified_manip.cli import main
+from unified_manip.report_figures import curve_band
+
+ROOT = Path(__file__).resolve().parents[1]
+BENCHES = [ROOT / "baselines" / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
+
+
+def _tasks(paths) -> list[str]:
+    """Every task of the files, in the order they first appear."""
+    return list(dict.fromkeys(r["task"] for p in paths for r in read_results(p)))
+
+
+def test_the_figure_has_one_panel_per_task_of_every_file(tmp_path, capsys):
+    out = tmp_path / "figures" / "overview.png"
+    assert main(["plot", *map(str, BENCHES), "--out", str(out), "--columns", "3"]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    names = [t.split("/")[-1] for t in _tasks(BENCHES)]
+    assert len(names) >= 2
+    assert capsys.readouterr().out.strip() == f"wrote {out} ({len(names)} panels: {', '.join(names)})"
+
+
+def test_tasks_picks_the_panels_and_their_order(tmp_path, capsys):
+    tasks = _tasks(BENCHES)
+    picked = [tasks[-1], tasks[0]]
+    out = tmp_path / "o.svg"
+    assert main(["plot", *map(str, BENCHES), "--out", str(out), "--tasks", ",".join(picked)]) == 0
+    assert out.read_text().lstrip().startswith("<?xml")
+    assert f"(2 panels: {picked[0].split('/')[-1]}, {picked[1].split('/')[-1]})" in capsys.readouterr().out
+
+
+def test_a_task_without_runs_in_the_files_is_one_line_naming_those_it_holds(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["plot", str(BENCHES[0]), "--out", str(tmp_path / "o.png"), "--tasks", "UnifiedManip/FetchReach-v0"])
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2 and err.count("\n") == 1, err
+    assert err.startswith("unified-manip plot: error: no finished runs of UnifiedManip/FetchReach-v0 in ")
+    assert err.strip().endswith("the files hold runs of " + ", ".join(_tasks(BENCHES[:1])))
+    assert not (tmp_path / "o.png").exists()
+
+
+def test_seeds_evaluated_at_different_steps_are_read_at_each_others_steps():
+    a = {"curve": [[10, 0.0], [30, 1.0]]}
+    b = {"curve": [[10, 1.0], [20, 1.0], [40, 0.0]]}  # runs past a's last evaluation
+    steps, mean, low, high = curve_band([a, b])
+    assert steps.tolist() == [10, 20, 30]  # the range both cover
+    np.testing.assert_allclose(mean, [0.5, 0.75, 0.75])  # a at 20 is 0.5; b at 30 is 0.5
+    assert np.all(low <= mean) and np.all(mean <= high)
+
+
+def test_one_seed_has_no_band_and_the_same_steps():
+    steps, mean, low, high = curve_band([{"curve": [[10, 0.2], [20, 0.4]]}])
+    assert steps.tolist() == [10, 20] and mean.tolist() == [0.2, 0.4]
+    assert np.isnan(low).all() and np.isnan(high).all()

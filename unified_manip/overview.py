@@ -1,0 +1,117 @@
+"""``unified-manip plot RESULTS...``: one figure of evaluation success against steps over
+one or more benches, a panel per task, for a README or a paper.
+
+Each panel draws one line per *setting* (action mode, reward, algorithm, and whether the
+runs started from scripted demonstrations): the mean over seeds with its 95% bootstrap
+band (:func:`unified_manip.report_figures.curve_band`), and each bench's target for the
+task as a dashed line. rl-baselines3-zoo draws one plot per env; this puts a benchmark's
+tasks side by side, in the order they first appear in the results files.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .results import ResultsError, read_results
+from .report_figures import pyplot, curve_band
+
+#: File types the figure may be written as (matplotlib picks the format by suffix).
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+
+Setting = tuple[str, str, str, bool]  # action mode, reward, algo, demonstrations
+
+
+def _setting(row: dict[str, Any]) -> Setting:
+    return row["action_mode"], row["reward_type"], row["algo"], bool(row.get("demonstrations"))
+
+
+def _targets(results: Path) -> dict[tuple[str, str], float]:
+    """``(task, action mode) -> success`` of the grid the bench wrote beside its results."""
+    grid_file = results.parent / "grid.yaml"
+    if not grid_file.is_file():
+        return {}
+    import yaml
+
+    from .benchmark import parse_targets
+
+    targets = parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
+    return {(t.task, t.action_mode): t.success for t in targets}
+
+
+def collect(sources: list[Path]) -> tuple[dict[str, dict[Setting, list[dict]]], dict[tuple[str, str], float]]:
+    """The finished runs of every results file, ``task -> setting -> rows``, and their
+    benches' targets. Raises :class:`ResultsError` for a file with no runs."""
+    panels: dict[str, dict[Setting, list[dict]]] = defaultdict(lambda: defaultdict(list))
+    targets: dict[tuple[str, str], float] = {}
+    for path in sources:
+        rows = read_results(path)
+        if not rows:
+            raise ResultsError(f"{path}: no finished runs to plot")
+        for row in rows:
+            panels[row["task"]][_setting(row)].append(row)
+        targets.update(_targets(path))
+    return panels, targets
+
+
+def _labeller(settings: list[Setting]):
+    """Labels that name the algorithm and whichever other parts differ in the figure."""
+    varying = [i for i in (0, 1) if len({s[i] for s in settings}) > 1]
+
+    def label(s: Setting, n: int) -> str:
+        algo = s[2] + (" + demos" if s[3] else "")
+        return " / ".join([*(s[i] for i in varying), algo]) + f" (n={n})"
+
+    return label
+
+
+def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[str] | None = None) -> list[str]:
+    """Write the figure to ``out`` (its suffix picks the format); return the panels'
+    titles, one per task, in drawing order. ``tasks`` picks the panels and their order
+    (default: every task, in the order the results files first name them); a task that
+    no file has a run of raises :class:`ResultsError`."""
+    panels, targets = collect(sources)
+    if tasks is not None:
+        missing = [t for t in tasks if t not in panels]
+        if missing:
+            raise ResultsError(f"no finished runs of {', '.join(missing)} in {', '.join(map(str, sources))}; "
+                               f"the files hold runs of {', '.join(panels)}")
+        panels = {t: panels[t] for t in tasks}
+    every = sorted({s for settings in panels.values() for s in settings})
+    label = _labeller(every)
+    colour = {s: f"C{i % 10}" for i, s in enumerate(every)}  # one setting, one colour, in every panel
+    columns = max(1, min(columns, len(panels)))
+    rows = math.ceil(len(panels) / columns)
+    plt = pyplot()
+    fig, axes = plt.subplots(rows, columns, figsize=(3.4 * columns, 2.6 * rows), dpi=110, squeeze=False)
+    titles = []
+    for ax, (task, settings) in zip(axes.flat, panels.items()):
+        for setting, runs in sorted(settings.items()):
+            steps, mean, low, high = curve_band(runs)
+            ax.plot(steps, mean, marker="o", ms=2, lw=1.2, color=colour[setting], label=label(setting, len(runs)))
+            if np.isfinite(low).any():
+                ax.fill_between(steps, low, high, color=colour[setting], alpha=0.2, linewidth=0)
+        for level in sorted({v for (t, _), v in targets.items() if t == task}):
+            ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=f"target {level:.2f}")
+        title = task.split("/")[-1]
+        titles.append(title)
+        ax.set_title(title, fontsize=9)
+        ax.set_ylim(-0.02, 1.02)
+        ax.xaxis.set_major_formatter(lambda x, _: f"{x / 1000:g}k")
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, loc="best")
+    for ax in list(axes.flat)[len(panels):]:
+        ax.set_visible(False)
+    fig.supxlabel("environment steps", fontsize=9)
+    fig.supylabel("success rate", fontsize=9)
+    fig.suptitle("Evaluation success against environment steps (mean over seeds, 95% bootstrap band)", fontsize=10)
+    fig.tight_layout()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    plt.close(fig)
+    return titles
