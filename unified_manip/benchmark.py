@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections import defaultdict
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -48,6 +49,16 @@ def parse_targets(value: Any, where: str) -> tuple[Target, ...]:
             raise TargetError(f"{where}: target success must be a number in (0, 1], got {s!r}")
         out.append(Target(str(e["task"]), str(e["action_mode"]), float(s)))
     return tuple(out)
+
+
+def grid_targets(grid_file: Path) -> tuple[Target, ...]:
+    """The targets a grid file names; none where the file is absent (a bench writes its
+    grid as ``grid.yaml`` beside ``results.csv``)."""
+    if not grid_file.is_file():
+        return ()
+    import yaml
+
+    return parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
 
 
 def steps_to(curve: list[list[float]], threshold: float) -> int | None:

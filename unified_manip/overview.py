@@ -17,8 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from .benchmark import grid_targets
+from .report_figures import curve_band, pyplot
 from .results import ResultsError, read_results
-from .report_figures import pyplot, curve_band
 
 #: File types the figure may be written as (matplotlib picks the format by suffix).
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
@@ -28,19 +29,6 @@ Setting = tuple[str, str, str, bool]  # action mode, reward, algo, demonstration
 
 def _setting(row: dict[str, Any]) -> Setting:
     return row["action_mode"], row["reward_type"], row["algo"], bool(row.get("demonstrations"))
-
-
-def _targets(results: Path) -> dict[tuple[str, str], float]:
-    """``(task, action mode) -> success`` of the grid the bench wrote beside its results."""
-    grid_file = results.parent / "grid.yaml"
-    if not grid_file.is_file():
-        return {}
-    import yaml
-
-    from .benchmark import parse_targets
-
-    targets = parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
-    return {(t.task, t.action_mode): t.success for t in targets}
 
 
 def collect(sources: list[Path]) -> tuple[dict[str, dict[Setting, list[dict]]], dict[tuple[str, str], float]]:
@@ -54,7 +42,7 @@ def collect(sources: list[Path]) -> tuple[dict[str, dict[Setting, list[dict]]], 
             raise ResultsError(f"{path}: no finished runs to plot")
         for row in rows:
             panels[row["task"]][_setting(row)].append(row)
-        targets.update(_targets(path))
+        targets.update({(t.task, t.action_mode): t.success for t in grid_targets(path.parent / "grid.yaml")})
     return panels, targets
 
 

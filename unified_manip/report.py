@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from .bench import read_results
+from .benchmark import benchmark_table, grid_targets
 from .report_figures import plot_final, plot_task
 from .stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
 
@@ -95,7 +96,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     lines.append("")
 
     grid_file = bench_dir / "grid.yaml"
-    targets = _targets(grid_file) if grid_file.is_file() else ()
+    targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
     lines += ["| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |", "|---|---|---|---|---:|---:|---|---|---|"]
     for task, groups in by_task.items():
@@ -115,8 +116,6 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
             lines += [f"![{task} final success per setting]({fig.name})", ""]
 
     if grid_file.is_file():
-        from .benchmark import benchmark_table
-
         lines += ["## Benchmark table", ""]
         lines += benchmark_table(rows, targets, bootstrap_ci)
 
@@ -179,15 +178,6 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     path = out / "report.md"
     path.write_text("\n".join(lines) + "\n")
     return path
-
-
-def _targets(grid_file: Path) -> tuple:
-    """The benchmark targets of the grid the results came from."""
-    import yaml
-
-    from .benchmark import parse_targets
-
-    return parse_targets((yaml.safe_load(grid_file.read_text()) or {}).get("targets"), str(grid_file))
 
 
 def _task_targets(targets: tuple, task: str) -> dict[str, float]:
