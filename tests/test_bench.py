@@ -305,6 +305,11 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
     assert ("(5,000 gradient steps). 2 of them kept a cloning loss on them in every actor update "
             "(weight 2.5, unfiltered; weight 2.5, Q-filtered).\n") in text
+    # On the sampled action (bc_sampled), recorded only where set.
+    rows[2]["demonstrations"] = json.dumps({**json.loads(rows[2]["demonstrations"]), "cloning_loss_sampled": True})
+    write_results(bench, rows)
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    assert "(weight 2.5, unfiltered, on sampled actions; weight 2.5, Q-filtered).\n" in text
     # And those that took offline steps on them (offline_steps) say that.
     rows[3]["demonstrations"] = json.dumps({**cloned, "offline": {"steps": 20000, "first": {}, "last": {}}})
     write_results(bench, rows)

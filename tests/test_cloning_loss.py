@@ -2,10 +2,12 @@
 
 The contract: attached, every actor update also pulls the actor's actions toward the
 demonstrated ones, but only on transitions where the critic rates the demonstrated action
-strictly above the actor's own (a critic that rates every action alike moves nothing); a
+strictly above the actor's own (a critic that rates every action alike moves nothing); on
+the sampled action (``bc_sampled: true``) it pulls a stochastic actor's noise down too; a
 run attaches it again when it resumes (its TensorBoard log carries the loss from the
 resumed segment); asking for it without demonstrations, below 0, or with a replay buffer
-that would overwrite the demonstrations is a clear error, one line with exit 2 from the CLI.
+that would overwrite the demonstrations, or a sampled action of a deterministic actor, is a
+clear error, one line with exit 2 from the CLI.
 """
 
 from __future__ import annotations
@@ -73,33 +75,74 @@ def test_a_critic_that_rates_every_action_alike_filters_everything_out(q_filter)
     assert logged["train/bc_error"] > 0.0  # how far the actor is, filtered or not
 
 
+def _noise(model) -> float:
+    """The actor's mean standard deviation (before the tanh) over the demonstrated states."""
+    buffer = model.replay_buffer
+    rows = buffer.size()
+    obs = {k: torch.as_tensor(v[:rows, 0]) for k, v in buffer.observations.items()}
+    with torch.no_grad():
+        _, log_std, _ = model.actor.get_action_dist_params(obs)
+    return float(log_std.exp().mean())
+
+
+@pytest.mark.parametrize("sampled", [False, True])
+def test_only_the_sampled_loss_pulls_the_noise_down(sampled):
+    """On the mean action the loss never reaches the actor's standard-deviation head; on
+    the sampled action (``bc_sampled: true``) its expected squared error includes the
+    variance, so the noise where the demonstrations act shrinks, and the mean action still
+    comes toward them."""
+    from sb3_contrib import TQC
+
+    model = demonstrated_model(TQC, her=True)
+    head = [p.detach().clone() for p in model.actor.log_std.parameters()]
+    noise, error = _noise(model), _action_error(model)
+    attach(model, model.replay_buffer.size(), steps=100, weight=1.0, q_filter=False, sampled=sampled)
+    _pure_cloning_steps(model, 300)
+    assert _action_error(model) < 0.7 * error
+    if sampled:
+        assert _noise(model) < 0.5 * noise, (noise, _noise(model))
+    else:
+        assert all(torch.equal(p, q) for p, q in zip(head, model.actor.log_std.parameters()))
+
+
+def test_the_sampled_loss_needs_a_stochastic_actor():
+    from stable_baselines3 import TD3
+
+    model = demonstrated_model(TD3, her=False)
+    with pytest.raises(CloningLossError, match="bc_sampled=true needs a stochastic actor .SAC, TQC, CrossQ.; "
+                                               "TD3's actor is deterministic"):
+        attach(model, model.replay_buffer.size(), steps=100, weight=1.0, sampled=True)
+
+
 def test_a_resumed_run_keeps_the_loss(tmp_path):
     """SB3 writes its training log every 4 episodes: at step 200 here, after the resume at
     100, so the loss in the log was computed by a hook the resumed run attached."""
     run = tmp_path / "run"
-    settings = {"bc_steps": 0, "bc_weight": 1.0, "bc_q_filter": False}
+    settings = {"bc_steps": 0, "bc_weight": 1.0, "bc_q_filter": False, "bc_sampled": True}
     interrupt_after_first_checkpoint(run, lambda: train(_request(run, **settings), progress=False, threads=1,
                                                          log=lambda msg: None))
     assert not {"train/bc_loss", "train/bc_q_filter"} & tb_tags(run)
     record = json.loads((run / "demonstrations.json").read_text())
     assert record["cloning_loss_weight"] == 1.0 and record["cloning_loss_q_filter"] is False
+    assert record["cloning_loss_sampled"] is True
     status = train(_request(run, **settings), progress=False, threads=1, log=lambda msg: None)
     assert status["state"] == "finished"
     assert {"train/bc_loss", "train/bc_q_filter"} <= tb_tags(run)
 
 
 @pytest.mark.parametrize(
-    "weight,demonstrations,q_filter,message",
+    "weight,demonstrations,q_filter,sampled,message",
     [
-        (0.5, 0, True, "bc_weight=0.5 imitates the demonstrations; set demonstrations to 1 or more episodes"),
-        (-1.0, 5, True, "bc_weight must be a loss weight, 0 or more; got -1.0"),
-        (float("nan"), 5, True, "bc_weight must be a loss weight, 0 or more; got nan"),
-        (0.0, 5, False, "bc_q_filter=false changes the cloning loss; set bc_weight above 0 as well"),
+        (0.5, 0, True, False, "bc_weight=0.5 imitates the demonstrations; set demonstrations to 1 or more episodes"),
+        (-1.0, 5, True, False, "bc_weight must be a loss weight, 0 or more; got -1.0"),
+        (float("nan"), 5, True, False, "bc_weight must be a loss weight, 0 or more; got nan"),
+        (0.0, 5, False, False, "bc_q_filter=false changes the cloning loss; set bc_weight above 0 as well"),
+        (0.0, 5, True, True, "bc_sampled=true changes the cloning loss; set bc_weight above 0 as well"),
     ],
 )
-def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, q_filter, message):
+def test_the_loss_without_demonstrations_is_refused(weight, demonstrations, q_filter, sampled, message):
     with pytest.raises(CloningLossError) as err:
-        check(weight, demonstrations, q_filter)
+        check(weight, demonstrations, q_filter, sampled)
     assert message in str(err.value)
     check(0.0, demonstrations)  # none asked: always fine
 
@@ -117,6 +160,7 @@ def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
 @pytest.mark.parametrize("sets,message", [
     (["demonstrations=0", "bc_weight=1"], "set demonstrations to 1 or more episodes"),
     (["demonstrations=1", "bc_weight=1", "buffer_size=200"], "buffer_size must be at least"),
+    (["demonstrations=1", "bc_sampled=true"], "bc_sampled=true changes the cloning loss; set bc_weight above 0"),
 ])
 def test_the_cli_refuses_in_one_line(tmp_path, sets, message):
     args = [a for s in sets for a in ("--set", s)]

@@ -15,6 +15,14 @@ transition counts (a fixed cloning regulariser, as in TD3+BC, Fujimoto and Gu 20
 a critic that rates the actor's own actions above the demonstrated ones almost everywhere,
 which is what an untrained critic that the actor maximises tends to do.
 
+With ``bc_sampled: true`` the loss takes the stochastic actor's *sampled* (reparameterised)
+action in place of its mean: for a Gaussian before the tanh, the expected squared error is
+the mean's squared error plus the variance, so the same weight also pulls the actor's
+noise down where the demonstrations act. The mean-action loss leaves that noise to the
+entropy bonus, and once the entropy coefficient has fallen near 0 nothing bounds it
+(PickPlaceCan-v0, ``docs/results.md``). A deterministic actor (TD3) has no noise to
+shrink, so asking it of one is an error.
+
 The loss goes into every actor update of the algorithm, whatever it is (SAC, TQC,
 CrossQ, TD3): a step pre-hook on the actor's optimiser adds its gradient to the one the
 algorithm's own actor loss left, so each optimiser step follows the sum of the two losses.
@@ -35,11 +43,13 @@ class CloningLossError(ValueError):
     """A run asked for the cloning loss and cannot have it."""
 
 
-def check(bc_weight: float, demonstrations: int, q_filter: bool = True) -> None:
+def check(bc_weight: float, demonstrations: int, q_filter: bool = True, sampled: bool = False) -> None:
     """Raise :class:`CloningLossError` unless ``bc_weight`` (0: no loss) is 0 or more, the
-    run has demonstrations to imitate, and the filter is left alone without the loss."""
-    if not q_filter and not bc_weight:
-        raise CloningLossError("bc_q_filter=false changes the cloning loss; set bc_weight above 0 as well")
+    run has demonstrations to imitate, and the filter and the sampled action are left
+    alone without the loss."""
+    for name, changed in (("bc_q_filter=false", not q_filter), ("bc_sampled=true", sampled)):
+        if changed and not bc_weight:
+            raise CloningLossError(f"{name} changes the cloning loss; set bc_weight above 0 as well")
     if not bc_weight >= 0:
         raise CloningLossError(f"bc_weight must be a loss weight, 0 or more; got {bc_weight}")
     if bc_weight and not demonstrations:
@@ -47,14 +57,19 @@ def check(bc_weight: float, demonstrations: int, q_filter: bool = True) -> None:
                                "episodes")
 
 
-def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = True):
-    """Add the cloning loss of weight ``weight`` (Q-filtered unless ``q_filter`` is false)
-    to every later actor update of ``model``, on the first ``transitions`` transitions of
-    its replay buffer (the demonstrations) for a run of ``steps`` env steps in all.
+def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = True, sampled: bool = False):
+    """Add the cloning loss of weight ``weight`` (Q-filtered unless ``q_filter`` is false;
+    on the actor's sampled action where ``sampled``, else on its mean) to every later
+    actor update of ``model``, on the first ``transitions`` transitions of its replay
+    buffer (the demonstrations) for a run of ``steps`` env steps in all.
 
     Returns the hook's handle (``.remove()`` detaches it). Raises :class:`CloningLossError`
-    where the buffer would overwrite the demonstrations before the run ends.
+    where the buffer would overwrite the demonstrations before the run ends, or where
+    ``sampled`` is asked of a deterministic actor.
     """
+    if sampled and not hasattr(model.actor, "action_dist"):
+        raise CloningLossError(f"bc_sampled=true needs a stochastic actor (SAC, TQC, CrossQ); "
+                               f"{type(model).__name__}'s actor is deterministic")
     buffer = model.replay_buffer
     rows = transitions // buffer.n_envs
     needed = rows + -(-steps // buffer.n_envs)
@@ -62,22 +77,22 @@ def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = 
         raise CloningLossError(f"bc_weight needs the demonstrations kept in the replay buffer: buffer_size must be at "
                                f"least {needed * buffer.n_envs} transitions ({transitions} demonstrated + {steps} "
                                f"steps); got {buffer.buffer_size * buffer.n_envs}")
-    loss = _Cloning(model, rows, weight, q_filter)
+    loss = _Cloning(model, rows, weight, q_filter, sampled)
     return model.actor.optimizer.register_step_pre_hook(lambda optimizer, args, kwargs: loss.backward())
 
 
 class _Cloning:
     """Adds ``weight`` × the (Q-filtered) cloning loss's gradient to the actor's parameters."""
 
-    def __init__(self, model, rows: int, weight: float, q_filter: bool):
-        self.model, self.rows, self.weight, self.q_filter = model, rows, weight, q_filter
+    def __init__(self, model, rows: int, weight: float, q_filter: bool, sampled: bool = False):
+        self.model, self.rows, self.weight, self.q_filter, self.sampled = model, rows, weight, q_filter, sampled
 
     def backward(self) -> None:
         import torch
 
         model = self.model
         observations, actions = self._batch()
-        mine = model.policy._predict(observations, deterministic=True)
+        mine = model.policy._predict(observations, deterministic=not self.sampled)  # sampled: rsample
         with torch.no_grad():
             better = (self._q(observations, actions) > self._q(observations, mine) if self.q_filter
                       else torch.ones(len(actions), dtype=torch.bool, device=actions.device))

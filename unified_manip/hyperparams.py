@@ -35,6 +35,7 @@ RUN_KEYS: dict[str, type] = {
     "bc_steps": int,  # with demonstrations: actor gradient steps of behaviour cloning on them before training
     "bc_weight": float,  # with demonstrations: weight of a Q-filtered cloning loss in every actor update
     "bc_q_filter": bool,  # with bc_weight: keep the loss only where Q rates the demonstrated action higher (default true)
+    "bc_sampled": bool,  # with bc_weight: the loss on a stochastic actor's sampled action, not its mean (default false)
     "offline_steps": int,  # with demonstrations: gradient steps of the algorithm's own update on them alone first
 }
 

@@ -50,7 +50,8 @@ def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dic
     check_demonstrations(task_id, action_mode, off_policy, episodes)
     check(params.get("bc_steps", 0), episodes)
     check_offline(params.get("offline_steps", 0), episodes)
-    check_cloning_loss(params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True))
+    check_cloning_loss(params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True),
+                       params.get("bc_sampled", False))
 
 
 #: Demonstrated actions at the edge of the box (a gripper's -1 or +1) are fitted as this

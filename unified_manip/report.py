@@ -47,10 +47,12 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     offline = [r["demonstrations"]["offline"]["steps"] for r in demonstrated if r["demonstrations"].get("offline")]
     learned = (f" {len(offline)} of them took {', '.join(f'{s:,}' for s in sorted(set(offline)))} gradient steps of "
                "the algorithm's own update on them alone before the first rollout." if offline else "")
-    losses = [(r["demonstrations"]["cloning_loss_weight"], r["demonstrations"].get("cloning_loss_q_filter", True))
+    losses = [(r["demonstrations"]["cloning_loss_weight"], r["demonstrations"].get("cloning_loss_q_filter", True),
+               r["demonstrations"].get("cloning_loss_sampled", False))
               for r in demonstrated if r["demonstrations"].get("cloning_loss_weight")]
     loss = (f" {len(losses)} of them kept a cloning loss on them in every actor update ("
-            + "; ".join(f"weight {w:g}, {'Q-filtered' if q else 'unfiltered'}" for w, q in sorted(set(losses)))
+            + "; ".join(f"weight {w:g}, {'Q-filtered' if q else 'unfiltered'}{', on sampled actions' if a else ''}"
+                        for w, q, a in sorted(set(losses)))
             + ")." if losses else "")
     return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
             f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "

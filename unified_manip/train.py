@@ -157,7 +157,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             if params.get("demonstrations"):
                 _demonstrate(model, req, n_envs, params, log)
         if params.get("bc_weight"):
-            _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True))
+            _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True),
+                          params.get("bc_sampled", False))
         if not candidates and params.get("offline_steps"):  # with the cloning loss, if any, in its actor updates
             _learn_offline(model, req, params["offline_steps"], log, progress)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
@@ -238,6 +239,8 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
     if params.get("bc_weight"):
         done["cloning_loss_weight"] = params["bc_weight"]
         done["cloning_loss_q_filter"] = params.get("bc_q_filter", True)
+        if params.get("bc_sampled"):
+            done["cloning_loss_sampled"] = True
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
 
 
@@ -255,15 +258,15 @@ def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) ->
     write_atomic(path, json.dumps(done, indent=2) + "\n")
 
 
-def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool) -> None:
-    """Add the cloning loss (Q-filtered unless ``q_filter`` is false) on the recorded
-    demonstrations to every actor update from here on (:mod:`unified_manip.cloning_loss`;
-    a resumed run adds it again)."""
+def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampled: bool) -> None:
+    """Add the cloning loss (Q-filtered unless ``q_filter`` is false; on the sampled action
+    where ``sampled``) on the recorded demonstrations to every actor update from here on
+    (:mod:`unified_manip.cloning_loss`; a resumed run adds it again)."""
     from .cloning_loss import CloningLossError, attach
 
     done = json.loads((req.directory / "demonstrations.json").read_text())
     try:
-        attach(model, done["transitions"], req.steps, weight, q_filter)
+        attach(model, done["transitions"], req.steps, weight, q_filter, sampled)
     except CloningLossError as err:
         raise TrainError(f"{req.directory}: {err}") from None
 
