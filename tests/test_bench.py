@@ -186,6 +186,10 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
          "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
         ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_weight=2"]}},
          "bc_weight=2 imitates the demonstrations; set demonstrations to 1 or more episodes"),
+        ({"env_kwargs": ["band"]}, "env_kwargs must be a mapping of gym.make keyword arguments, got ['band']"),
+        ({"env_kwargs": {"action_mode": "joint_position"}}, "env_kwargs may not set 'action_mode'; the grid's own keys choose it"),
+        ({"env_kwargs": {"controller_options": {"band": 0.5}}},
+         "unknown controller option 'band' for action_mode 'ee_delta' (EEDelta); expected one of 'step', "),
         ({"algos": ["ppo"], "overrides": {"ppo": ["demonstrations=5"]}},
          "demonstrations go into a replay buffer; use an off-policy algorithm (sac, "),
     ],
@@ -212,6 +216,24 @@ def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
         load_grid(write_grid(tmp_path, three))  # checked with the grid's n_envs, before any run starts
     three["overrides"] = {"sac_her": [*TINY["overrides"]["sac_her"], "learning_starts=150"]}
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, three)).runs} == {3}
+
+
+def test_a_grids_env_kwargs_reach_every_run_its_config_and_its_report(tmp_path):
+    """The zoo's env_kwargs: here a controller option, recorded in config.yaml (so resume
+    compares it and eval rebuilds the same env) and stated in the report."""
+    doc = {**TINY, "action_modes": ["joint_position"], "seeds": [0], "env_kwargs": {"controller_options": {"band": 0.4}}}
+    grid = load_grid(write_grid(tmp_path, doc))
+    assert [r.env_kwargs for r in grid.runs] == [{"controller_options": {"band": 0.4}}]
+    out = tmp_path / "out"
+    assert run_grid(grid, out, executor="local", workers=1, progress=False)["finished"] == 1
+    run = out / "runs" / grid.runs[0].name
+    config = yaml.safe_load((run / "config.yaml").read_text())
+    assert config["env_kwargs"] == {"action_mode": "joint_position", "reward_type": "sparse",
+                                    "controller_options": {"band": 0.4}}
+    done = cli("eval", str(run), "--episodes", "1")
+    assert done.returncode == 0, done.stderr
+    text = build_report(out / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    assert "- Env keyword arguments of every run (the grid's `env_kwargs`): `{\"controller_options\": {\"band\": 0.4}}`." in text
 
 
 def test_committed_grids_are_valid():

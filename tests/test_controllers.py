@@ -11,7 +11,7 @@ import pytest
 from conftest import make
 
 import unified_manip
-from unified_manip.controllers import EEDelta, JointDelta, JointTargetDelta, JointVelocity
+from unified_manip.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
 from unified_manip.controllers.docs import README_END, README_START, readme_table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -80,6 +80,53 @@ def test_joint_target_delta_accumulates_on_every_family(task_id):
     assert not np.array_equal(control.target, control.rig.joint_positions())
 
 
+@pytest.mark.parametrize("task_id", [ARM, "UnifiedManip/FetchPickAndPlace-v0"])
+def test_joint_position_band_maps_the_box_around_the_reset_posture(task_id):
+    """``controller_options={"band": b}``: action 0 holds the posture the episode started
+    in, ``a`` commands ``q_reset + a * b`` (clipped to the range), and the scripted policy's
+    action for a target lands on it; without options the box is the whole range."""
+    env = make(task_id, "joint_position", controller_options={"band": 0.5})
+    env.reset(seed=3)
+    backend = env.unwrapped._backend
+    rig, control = backend.rig, backend.control
+    q_reset = rig.joint_positions().copy()
+    n = rig.n
+    for a in (np.zeros(n), np.full(n, 0.6), np.full(n, -1.0), np.linspace(-1.0, 1.0, n)):
+        env.step(np.append(a, 1.0).astype(np.float32))
+        expected = np.minimum(np.maximum(q_reset + a.astype(np.float32) * 0.5, rig.lower), rig.upper)
+        np.testing.assert_allclose(backend.data.ctrl[rig.actuator_ids], expected, rtol=0, atol=1e-7)
+    target = q_reset + np.linspace(-0.2, 0.3, n)
+    np.testing.assert_allclose(control.action_toward(target), np.linspace(-0.4, 0.6, n), atol=1e-12)
+    assert "q_reset + a * 0.5" in control.config.describe()
+    full = make(task_id, "joint_position").unwrapped._backend.control
+    np.testing.assert_array_equal(full.scale, 0.5 * (full.rig.upper - full.rig.lower))
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"bnd": 0.5}, "unknown controller option 'bnd' for action_mode 'joint_position' (JointPosition); expected one of 'band'"),
+        ({"band": 0.0}, "JointPosition.band must be positive, got 0.0"),
+        ({"band": [0.5, 0.5]}, "JointPosition.band has 2 entries; expected 1 or one per arm joint (4)"),
+        ("band=0.5", "controller_options must be a mapping of parameter names to values, got 'band=0.5'"),
+    ],
+)
+def test_bad_controller_options_fail_at_make_naming_the_choices(options, message):
+    with pytest.raises((ValueError, TypeError)) as err:
+        make(ARM, "joint_position", controller_options=options)
+    assert str(err.value).startswith(message)
+
+
+def test_controller_options_on_a_mode_without_parameters_are_refused():
+    with pytest.raises(ValueError, match=r"action_mode 'native' here \(Native\) has no parameters; expected no "
+                                         r"controller_options, got \{'max_delta': 0.1\}"):
+        make("UnifiedManip/FetchReach-v0", "native", controller_options={"max_delta": 0.1})
+    # Where native is one of the shared configs (the arm's joint_delta), its parameters apply.
+    env = make(ARM, "native", controller_options={"max_delta": 0.1})
+    assert env.unwrapped._backend.control.config == JointDelta(max_delta=0.1)
+    assert JointPosition(band=(0.1, 0.2, 0.3, 0.4)).band == (0.1, 0.2, 0.3, 0.4)
+
+
 @pytest.mark.parametrize(
     "build, message",
     [
@@ -89,6 +136,7 @@ def test_joint_target_delta_accumulates_on_every_family(task_id):
         (lambda: JointVelocity(kv=(1.0, 0.0)), "JointVelocity.kv must be positive, got (1.0, 0.0)"),
         (lambda: EEDelta(step=float("nan")), "EEDelta.step must be positive, got nan"),
         (lambda: EEDelta(iterations=0), "EEDelta.iterations must be a positive int, got 0"),
+        (lambda: JointPosition(band=-0.1), "JointPosition.band must be positive, got -0.1"),
     ],
 )
 def test_configs_validate(build, message):

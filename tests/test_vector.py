@@ -98,6 +98,18 @@ def test_native_matches_single_env_over_autoresets(task_id, mode, n, episodes):
     reference.close()
 
 
+def test_native_matches_single_env_with_controller_options():
+    """A mode's options reach every sub-env: joint_position over a band around the reset
+    posture (a controller that keeps per-episode state) stays bit-identical over an autoreset."""
+    task_id = "UnifiedManip/Arm4PickAndPlace-v0"
+    kwargs = {"action_mode": "joint_position", "controller_options": {"band": 0.3}}
+    native, reference = pair(task_id, 2, **kwargs)
+    assert all(b.control.config.band == 0.3 for b in native.unwrapped._batched._backends)
+    play(native, reference, unified_manip.TASKS[task_id].max_episode_steps + 3)
+    native.close()
+    reference.close()
+
+
 @pytest.mark.parametrize("mode", [AutoresetMode.SAME_STEP, AutoresetMode.DISABLED])
 def test_other_autoreset_modes(mode):
     """Early terminations (terminate_on_success under a reaching policy) at different

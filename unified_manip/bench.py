@@ -15,6 +15,7 @@ algorithms x seeds, the budget and the evaluation schedule::
     eval_freq: 1000                # env steps between evaluations
     n_eval_episodes: 20
     overrides: {sac_her: [learning_starts=500]}   # optional, per algorithm
+    env_kwargs: {controller_options: {band: 0.75}}  # optional: extra gym.make arguments, every run
     only:                          # optional: keep just the combinations matching an entry
       - {algo: ppo, reward_type: sparse}
     targets:                       # optional: final success the report checks
@@ -59,6 +60,7 @@ def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = 
     req = TrainRequest(
         env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
         steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides, device=device,
+        env_kwargs=spec.env_kwargs,
     )
     train(req, argv=None, progress=False, log=lambda msg: None, threads=threads, lock_wait_s=RUN_LOCK_WAIT_S)
     row = collect_row(run_dir)

@@ -33,7 +33,7 @@ def add_commands(sub) -> None:
                         "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more")
     p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
-    p.add_argument("--env-kwarg", action="append", type=env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument")
+    p.add_argument("--env-kwarg", action="append", type=env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument, a YAML value (repeatable), e.g. controller_options={band: 0.75}")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--device", choices=DEVICES, help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto")
     p.add_argument("--restart", action="store_true", help="start the run over from step 0 (discards its checkpoints, logs and models)")

@@ -7,7 +7,7 @@ simulator is built.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from typing import Any, Mapping
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
@@ -66,6 +66,9 @@ class EnvConfig:
             e.g. a candidate checked by ``unified_manip.sanity``; ``None`` normally.
         options: Family-specific keyword arguments (e.g. ``robot`` for robosuite),
             validated by the family itself.
+        controller_options: Parameters of the action mode's controller config that
+            replace the family's (e.g. ``{"band": 0.75}`` for ``joint_position``); see
+            :meth:`mode_config`.
     """
 
     action_mode: str = "native"
@@ -77,6 +80,7 @@ class EnvConfig:
     reward_config: Any = None
     reward_spec: Any = None
     options: Mapping[str, Any] = field(default_factory=dict)
+    controller_options: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
@@ -97,6 +101,11 @@ class EnvConfig:
                 "terminate_on_success must be a bool, got "
                 f"{type(self.terminate_on_success).__name__}"
             )
+        if self.controller_options is None:
+            object.__setattr__(self, "controller_options", {})
+        if not isinstance(self.controller_options, Mapping) or not all(isinstance(k, str) for k in self.controller_options):
+            raise TypeError(f"controller_options must be a mapping of parameter names to values, got {self.controller_options!r}")
+        object.__setattr__(self, "controller_options", dict(self.controller_options))  # the caller's stays theirs
         for name in ("render_width", "render_height"):
             value = getattr(self, name)
             if not isinstance(value, int) or value <= 0:
@@ -109,3 +118,24 @@ class EnvConfig:
                 f"action_mode {self.action_mode!r} is not supported by {task_id}; "
                 f"expected one of {_choices(supported)}"
             )
+
+    def mode_config(self, controllers: Mapping[str, Any]):
+        """The action mode's controller config from a family's ``{mode: config}``, with
+        :attr:`controller_options` in place of its parameters; ``ValueError`` naming the
+        mode's parameters for an unknown one, and the config's own check for a bad value."""
+        config = controllers[self.action_mode]
+        if not self.controller_options:
+            return config
+        names = tuple(f.name for f in fields(config))
+        if config.controller is None or not names:
+            raise ValueError(f"action_mode {self.action_mode!r} here ({type(config).__name__}) has no parameters; "
+                             f"expected no controller_options, got {dict(self.controller_options)!r}")
+        unknown = [k for k in self.controller_options if k not in names]
+        if unknown:
+            raise ValueError(f"unknown controller option {unknown[0]!r} for action_mode {self.action_mode!r} "
+                             f"({type(config).__name__}); expected one of {_choices(names)}")
+        value = dict(self.controller_options)
+        for k, v in value.items():  # YAML and JSON give lists; the frozen configs hold tuples
+            if isinstance(v, list):
+                value[k] = tuple(v)
+        return replace(config, **value)

@@ -31,6 +31,9 @@ class UnifiedManipEnv(GoalEnv):
         render_height: Height of ``rgb_array`` frames in pixels.
         reward_config: The reward designs' numbers (``unified_manip.rewards.RewardConfig``).
         reward_spec: A reward design of your own, instead of ``reward_type``'s.
+        controller_options: Parameters of the action mode's controller in place of the
+            task's, e.g. ``{"band": 0.75}`` for ``joint_position``
+            (``unified_manip.config.EnvConfig.mode_config``).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -56,6 +59,7 @@ class UnifiedManipEnv(GoalEnv):
         render_height: int = 480,
         reward_config: Any = None,
         reward_spec: Any = None,
+        controller_options: Any = None,
         **options: Any,
     ) -> None:
         self.task = get_task(task_id)
@@ -69,8 +73,10 @@ class UnifiedManipEnv(GoalEnv):
             reward_config=reward_config,
             reward_spec=reward_spec,
             options=dict(options),
+            controller_options=controller_options,
         )
         self.config.require_supported(task_id, self.task.action_modes)
+        self.config.mode_config(self.task.controllers)  # a bad controller option fails before the simulator loads
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
         self.reward_spec = reward_spec_for(self.config, self.task.shaping)

@@ -4,18 +4,18 @@ before any run starts. The file format is described in :mod:`unified_manip.bench
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .config import validate_reward_type
+from .config import EnvConfig, validate_reward_type
 from .hyperparams import ALGOS, check_her_warmup, resolve
 from .pretrain import check_settings as check_demonstration_settings
 from .registry import TASKS, get_task
 from .yamlfile import YamlFileError, load_mapping
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
-OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets")
+OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets", "env_kwargs")
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 
 
@@ -33,6 +33,7 @@ class RunSpec:
     steps: int
     overrides: tuple[str, ...]
     n_envs: int | None = None  # None: the hyperparameter file's n_envs, else 1
+    env_kwargs: dict[str, Any] = field(default_factory=dict)  # extra gym.make keyword arguments
 
     @property
     def name(self) -> str:
@@ -111,6 +112,7 @@ def load_grid(path: Path) -> Grid:
         parse_targets(doc.get("targets"), str(path))
     except TargetError as err:
         raise GridError(str(err)) from None
+    env_kwargs = _env_kwargs(path, doc.get("env_kwargs", {}))
     only = doc.get("only")
     if only is not None:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
@@ -130,12 +132,29 @@ def load_grid(path: Path) -> Grid:
                 params = resolve(a, t, sets, action_mode=m)
                 check_her_warmup(a, params, n_envs[a] or params.get("n_envs", 1), TASKS[t].max_episode_steps)
                 check_demonstration_settings(t, m, ALGOS[a].off_policy, params)
-            except ValueError as err:
+                options = env_kwargs.get("controller_options")
+                EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
+            except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
-            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a]))
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], env_kwargs))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
     return Grid(name, tuple(runs), doc)
+
+
+#: What the run itself sets, so a grid's env_kwargs may not.
+_RUN_ENV_KEYS = ("action_mode", "reward_type", "render_mode")
+
+
+def _env_kwargs(path: Path, value: Any) -> dict[str, Any]:
+    """A grid's ``env_kwargs``: extra ``gym.make`` keyword arguments for every run (the
+    zoo's ``env_kwargs``), e.g. ``{controller_options: {band: 0.75}}``."""
+    if not isinstance(value, dict) or not all(isinstance(k, str) for k in value):
+        raise GridError(f"{path}: env_kwargs must be a mapping of gym.make keyword arguments, got {value!r}")
+    fixed = [k for k in value if k in _RUN_ENV_KEYS]
+    if fixed:
+        raise GridError(f"{path}: env_kwargs may not set {fixed[0]!r}; the grid's own keys choose it")
+    return dict(value)
 
 
 def _check(path: Path, check, values: list) -> None:

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import yaml
 
 from .bench import read_results
 from .benchmark import benchmark_table, grid_targets
@@ -78,6 +79,8 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     seeds = sorted({r["seed"] for r in rows})
     versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
     demonstrated = [r for r in rows if r.get("demonstrations")]
+    grid_file = bench_dir / "grid.yaml"
+    env_kwargs = (yaml.safe_load(grid_file.read_text()) or {}).get("env_kwargs") if grid_file.is_file() else None
     lines += [
         f"- Runs: {len(rows)} finished (rows of `{Path(results).name}`; unfinished runs are never included).",
         f"- Budget: {', '.join(f'{b:,}' for b in budgets)} environment steps per run.",
@@ -85,6 +88,8 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
         f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",
         *([_demonstrations_line(demonstrated, len(rows))] if demonstrated else []),
+        *([f"- Env keyword arguments of every run (the grid's `env_kwargs`): `{json.dumps(env_kwargs, sort_keys=True)}`."]
+          if env_kwargs else []),
         "- Success rate: deterministic evaluation episodes at each evaluation point (SB3 `EvalCallback`); "
         "final = the last evaluation.",
         f"- Intervals: 95% percentile bootstrap over seeds (`scipy.stats.bootstrap`); IQM (rliable) only with "
@@ -97,7 +102,6 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         lines.append("- " + ", ".join(f"{k} {val}" for k, val in json.loads(v).items()))
     lines.append("")
 
-    grid_file = bench_dir / "grid.yaml"
     targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
     lines += ["| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |", "|---|---|---|---|---:|---:|---|---|---|"]

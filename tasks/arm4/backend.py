@@ -120,7 +120,7 @@ class Arm4Backend(Backend):
             ee_rotation=top_down,
         )
         self._home = _home_qpos(self.model, self.rig)
-        self.control = controllers[config.action_mode].build(self.rig)
+        self.control = config.mode_config(controllers).build(self.rig)
         self.action_dim = self.control.action_dim
         m = self.model
         self._arm_q = self.rig.qpos_adr

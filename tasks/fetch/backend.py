@@ -84,7 +84,7 @@ class FetchBackend(UpstreamBackend):
             )
             rotation = up.data.site_xmat[self.rig.site_id].reshape(3, 3).copy()  # pointing down
             self.rig.ee_rotation = FixedRotation(rotation)
-            self.control = CONTROLLERS[self.mode].build(self.rig)
+            self.control = config.mode_config(CONTROLLERS).build(self.rig)
             self.action_dim = self.control.action_dim
         else:
             self.action_dim = 4

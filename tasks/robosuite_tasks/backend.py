@@ -61,7 +61,7 @@ class RobosuiteBackend(Backend):
             self.action_dim = up.action_dim
         else:
             self.rig = SuiteRig(up, self.joints, self.task.held_rotation)
-            self.control = CONTROLLERS[self.mode].build(self.rig)
+            self.control = config.mode_config(CONTROLLERS).build(self.rig)
             self.action_dim = self.control.action_dim
         self._goal = np.zeros(0)
         self._obs: dict[str, np.ndarray] = {}

@@ -37,7 +37,7 @@ class HandBackend(UpstreamBackend):
         self._native = config.action_mode == "native"
         self.rig = HandRig(self._up.model, self._up.data, self.dt)
         if not self._native:
-            self.control = CONTROLLERS[config.action_mode].build(self.rig)
+            self.control = config.mode_config(CONTROLLERS).build(self.rig)
         self.action_dim = self.rig.n
         m = self._up.model
         if has_object:

@@ -86,12 +86,32 @@ class JointTorque(ControllerConfig):
 
 @dataclass(frozen=True)
 class JointPosition(ControllerConfig):
-    """``joint_position``: absolute targets, ``[-1, 1]`` mapped onto each joint's range."""
+    """``joint_position``: absolute targets, ``[-1, 1]`` mapped onto each joint's range.
+
+    Attributes:
+        band: ``None`` (the default): the whole command range. A half-width in rad (one
+            for every joint, or one per joint): ``[-1, 1]`` maps onto
+            ``q_reset ± band`` instead, the posture the episode started in plus or minus
+            ``band``, clipped to the range: a smaller action box around the postures a
+            task uses.
+    """
 
     controller: ClassVar[str] = f"{_PACKAGE}.joint:JointPositionController"
+    band: float | tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.band is not None:
+            _positive("JointPosition", "band", self.band)
+
+    def build(self, rig):
+        if self.band is None:
+            return super().build(rig)
+        return resolve(f"{_PACKAGE}.joint:JointPositionBandController")(self, rig)
 
     def describe(self) -> str:
-        return "absolute target, `[-1, 1]` mapped onto each joint's command range"
+        if self.band is None:
+            return "absolute target, `[-1, 1]` mapped onto each joint's command range"
+        return f"absolute target `q_reset + a * {self.band}` rad (the posture at reset), clipped to the range"
 
 
 @dataclass(frozen=True)

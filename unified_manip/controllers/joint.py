@@ -73,6 +73,32 @@ class JointPositionController(_JointController):
         return (q_target - self.offset) / self.scale
 
 
+class JointPositionBandController(_JointController):
+    """Absolute target ``q_reset + a * band``, clipped to the range: ``joint_position``
+    over a band around the posture the episode started in."""
+
+    def __init__(self, config, rig) -> None:
+        super().__init__(config, rig)
+        rig.actuate("position")
+        band = np.atleast_1d(np.asarray(config.band, float))
+        if band.shape not in ((1,), (rig.n,)):
+            raise ValueError(f"JointPosition.band has {band.size} entries; expected 1 or one per arm joint ({rig.n})")
+        self.scale = np.broadcast_to(band, (rig.n,)).copy()
+        self.center = np.zeros(rig.n)
+
+    def reset(self) -> None:
+        super().reset()
+        self.center = np.array(self.rig.joint_positions(), dtype=np.float64)
+
+    def __call__(self, action: np.ndarray) -> dict[str, Any]:
+        rig = self.rig
+        target = self.center + action[: self.n] * self.scale
+        return self._send(np.minimum(np.maximum(target, rig.lower), rig.upper), action)
+
+    def action_toward(self, q_target: np.ndarray) -> np.ndarray:
+        return (q_target - self.center) / self.scale
+
+
 class JointDeltaController(_JointController):
     """Target ``q + a * max_delta`` from the measured ``q`` (clipped if configured)."""
 

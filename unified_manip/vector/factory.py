@@ -110,10 +110,11 @@ def make_vector_env(
     options = dict(env_kwargs)
     config = EnvConfig(
         **{k: options.pop(k) for k in ("action_mode", "reward_type", "terminate_on_success", "render_mode",
-                                       "render_width", "render_height") if k in options},
+                                       "render_width", "render_height", "controller_options") if k in options},
         options=options,
     )
     config.require_supported(task_id, spec.action_modes)
+    config.mode_config(spec.controllers)
     module, name = BATCHED[spec.family].split(":")
     batched_cls = getattr(importlib.import_module(module), name)
     backends = [spec.make_backend(config) for _ in range(num_envs)]
