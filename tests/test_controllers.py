@@ -152,6 +152,18 @@ def test_every_mode_is_documented_from_its_config():
             assert config.describe().replace("`", "")[:40] in " ".join(spec.doc.split()), (spec.id, mode)
 
 
+def test_every_task_page_names_the_parameters_controller_options_may_set():
+    from dataclasses import fields
+
+    for spec in unified_manip.TASKS.values():
+        page = " ".join(spec.doc.split())
+        for mode, config in spec.controllers.items():
+            if config.controller is not None and fields(config):
+                values = ", ".join(f"{f.name}={getattr(config, f.name)!r}" for f in fields(config))
+                assert f"{mode}: {values}" in page, (spec.id, mode)
+    assert "joint_position: band=None" in " ".join(unified_manip.TASKS[ARM].doc.split())
+
+
 def test_mode_table_shows_every_tasks_config():
     """Each task's config of each mode has a row naming its family (a variant whose
     config differs, like Arm4Push-v1's doubled steps, by its own ID)."""

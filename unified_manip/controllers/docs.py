@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import textwrap
+from dataclasses import fields
 from typing import Mapping
 
 from .configs import ControllerConfig
@@ -17,7 +18,8 @@ README_END = "<!-- end of mode table -->"
 
 
 def modes_section(controllers: Mapping[str, ControllerConfig], width: int = 88) -> str:
-    """A task page's list of its action modes, one config description each."""
+    """A task page's list of its action modes, one config description each, then the
+    parameters each mode's ``controller_options`` may set, with their values here."""
     pad = max(len(mode) for mode in controllers) + 6
     lines = []
     for mode, config in controllers.items():
@@ -25,6 +27,13 @@ def modes_section(controllers: Mapping[str, ControllerConfig], width: int = 88) 
             config.describe().replace("`", ""), width, initial_indent=f"    {mode:<{pad - 4}}",
             subsequent_indent=" " * pad,
         )
+    params = "; ".join(
+        f"{mode}: " + ", ".join(f"{f.name}={getattr(config, f.name)!r}" for f in fields(config))
+        for mode, config in controllers.items() if config.controller is not None and fields(config)
+    )
+    if params:
+        lines += textwrap.wrap(f"gym.make(..., controller_options={{...}}) sets a mode's parameters ({params}).",
+                               width, initial_indent="    ", subsequent_indent="    ")
     return "\n".join(lines)
 
 
