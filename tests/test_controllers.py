@@ -106,6 +106,8 @@ def test_joint_position_band_maps_the_box_around_the_reset_posture(task_id):
     "options, message",
     [
         ({"bnd": 0.5}, "unknown controller option 'bnd' for action_mode 'joint_position' (JointPosition); expected one of 'band'"),
+        ({"band:0.5": None}, "unknown controller option 'band:0.5' for action_mode 'joint_position' (JointPosition); "
+                             "expected one of 'band' (YAML reads 'band:0.5' as one name: write a space after the colon)"),
         ({"band": 0.0}, "JointPosition.band must be positive, got 0.0"),
         ({"band": [0.5, 0.5]}, "JointPosition.band has 2 entries; expected 1 or one per arm joint (4)"),
         ("band=0.5", "controller_options must be a mapping of parameter names to values, got 'band=0.5'"),

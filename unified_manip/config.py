@@ -132,8 +132,10 @@ class EnvConfig:
                              f"expected no controller_options, got {dict(self.controller_options)!r}")
         unknown = [k for k in self.controller_options if k not in names]
         if unknown:
+            hint = (f" (YAML reads {unknown[0]!r} as one name: write a space after the colon)"
+                    if ":" in str(unknown[0]) else "")
             raise ValueError(f"unknown controller option {unknown[0]!r} for action_mode {self.action_mode!r} "
-                             f"({type(config).__name__}); expected one of {_choices(names)}")
+                             f"({type(config).__name__}); expected one of {_choices(names)}{hint}")
         value = dict(self.controller_options)
         for k, v in value.items():  # YAML and JSON give lists; the frozen configs hold tuples
             if isinstance(v, list):
