@@ -7,7 +7,7 @@ simulator is built.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
@@ -126,8 +126,8 @@ class EnvConfig:
         config = controllers[self.action_mode]
         if not self.controller_options:
             return config
-        names = tuple(f.name for f in fields(config))
-        if config.controller is None or not names:
+        names = tuple(config.parameters())
+        if not names:
             raise ValueError(f"action_mode {self.action_mode!r} here ({type(config).__name__}) has no parameters; "
                              f"expected no controller_options, got {dict(self.controller_options)!r}")
         unknown = [k for k in self.controller_options if k not in names]

@@ -14,7 +14,7 @@ Every config describes itself in one line (:meth:`ControllerConfig.describe`): t
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -67,6 +67,11 @@ class ControllerConfig(ABC):
         if self.controller is None:
             raise ValueError(f"{type(self).__name__} is the family's own controller; the backend drives it")
         return resolve(self.controller)(self, rig)
+
+    def parameters(self) -> dict:
+        """The parameters ``controller_options`` may set, with their values here; empty for
+        ``native`` (the family's own controller) and for a config without fields."""
+        return {} if self.controller is None else {f.name: getattr(self, f.name) for f in fields(self)}
 
     @abstractmethod
     def describe(self) -> str:

@@ -8,7 +8,6 @@
 from __future__ import annotations
 
 import textwrap
-from dataclasses import fields
 from typing import Mapping
 
 from .configs import ControllerConfig
@@ -28,8 +27,8 @@ def modes_section(controllers: Mapping[str, ControllerConfig], width: int = 88) 
             subsequent_indent=" " * pad,
         )
     params = "; ".join(
-        f"{mode}: " + ", ".join(f"{f.name}={getattr(config, f.name)!r}" for f in fields(config))
-        for mode, config in controllers.items() if config.controller is not None and fields(config)
+        f"{mode}: " + ", ".join(f"{name}={value!r}" for name, value in config.parameters().items())
+        for mode, config in controllers.items() if config.parameters()
     )
     if params:
         lines += textwrap.wrap(f"gym.make(..., controller_options={{...}}) sets a mode's parameters ({params}).",
