@@ -10,7 +10,7 @@ of one of the family's IDs. To add a family, add a package with a
 
 from unified_manip.registry import register_task
 
-from . import arm4, fetch, robosuite_tasks, shadow_hand
+from unified_manip.tasks import arm4, fetch, robosuite_tasks, shadow_hand
 
 #: The families, in registration order (the order ``unified-manip list`` shows).
 FAMILIES = (arm4, fetch, shadow_hand, robosuite_tasks)

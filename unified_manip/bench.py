@@ -41,9 +41,9 @@ from typing import Any, Callable
 
 import yaml
 
-from .grid import OPTIONAL, REQUIRED, Grid, GridError, RunSpec, load_grid, selected  # noqa: F401
-from .results import RESULT_COLUMNS, ResultsError, collect_row, read_results, write_results  # noqa: F401
-from .runlock import DirectoryLock
+from unified_manip.grid import OPTIONAL, REQUIRED, Grid, GridError, RunSpec, load_grid, selected  # noqa: F401
+from unified_manip.results import RESULT_COLUMNS, ResultsError, collect_row, read_results, write_results  # noqa: F401
+from unified_manip.runlock import DirectoryLock
 
 #: How long a run waits for its directory when another process still owns it (an
 #: earlier attempt on a Ray node that has not noticed it was given up on, or a stray
@@ -54,7 +54,7 @@ RUN_LOCK_WAIT_S = 60.0
 # ---------------------------------------------------------------------- one run
 def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = None) -> dict[str, Any]:
     """Train one run (resuming if needed) and return its results row. Runs in a worker."""
-    from .train import TrainRequest, train
+    from unified_manip.train import TrainRequest, train
 
     run_dir = Path(out_dir) / "runs" / spec.name
     req = TrainRequest(
@@ -183,7 +183,7 @@ def run_grid(
     if collect and select:
         raise GridError("--only chooses runs to train and --collect trains none; give one or the other")
     if device is not None:
-        from .devices import DeviceError, resolve_device
+        from unified_manip.devices import DeviceError, resolve_device
 
         try:
             resolve_device(device)

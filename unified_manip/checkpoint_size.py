@@ -27,8 +27,8 @@ from pathlib import Path
 
 
 def _model(task: str, buffer_size: int, steps: int):
-    from .hyperparams import get_algo, resolve
-    from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+    from unified_manip.hyperparams import get_algo, resolve
+    from unified_manip.vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
 
     params = resolve("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
     params.pop("device", None)
@@ -53,7 +53,7 @@ def _timed(fn, repeats: int) -> tuple[float, object]:
 
 
 def measure(task: str, buffer_size: int, steps: int, repeats: int) -> dict:
-    from . import checkpoints
+    from unified_manip import checkpoints
 
     model = _model(task, buffer_size, steps)
     work = Path(tempfile.mkdtemp(prefix="ckpt_size_"))
@@ -113,7 +113,7 @@ def _positive(value: str) -> int:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m unified_manip.checkpoint_size", description=__doc__.split("\n\n")[0])
     parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
-    from .registry import TASKS
+    from unified_manip.registry import TASKS
 
     ids = [t for t, spec in TASKS.items() if "ee_delta" in spec.action_modes]
     parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", choices=ids, metavar="ID",

@@ -10,10 +10,10 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from .cli_runs import add_commands, cmd_bench, cmd_eval, cmd_report, cmd_train  # noqa: F401
-from .cliargs import Parser, positive_int, task_ids
-from .config import REWARD_TYPES
-from .registry import TASKS
+from unified_manip.cli_runs import add_commands, cmd_bench, cmd_eval, cmd_report, cmd_train  # noqa: F401
+from unified_manip.cliargs import Parser, positive_int, task_ids
+from unified_manip.config import REWARD_TYPES
+from unified_manip.registry import TASKS
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -38,7 +38,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 
 def cmd_speed(args: argparse.Namespace) -> int:
-    from . import speed
+    from unified_manip import speed
 
     results = speed.run(args.env, args.modes, steps=args.steps, repeats=args.repeats)
     table = Table(title=f"env steps/s vs raw physics (median of {args.repeats} x {args.steps} steps)")
@@ -89,7 +89,7 @@ def cmd_speed(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from . import demo
+    from unified_manip import demo
 
     successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env,
                          progress=not args.no_progress)
@@ -134,12 +134,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .grid import GridError
-    from .hyperparams import HyperparameterError
-    from .request import TrainError
-    from .results import ResultsError
-    from .runlock import DirectoryInUse
-    from .yamlfile import YamlFileError
+    from unified_manip.grid import GridError
+    from unified_manip.hyperparams import HyperparameterError
+    from unified_manip.request import TrainError
+    from unified_manip.results import ResultsError
+    from unified_manip.runlock import DirectoryInUse
+    from unified_manip.yamlfile import YamlFileError
 
     parser = build_parser()
     args = parser.parse_args(argv)

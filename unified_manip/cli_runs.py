@@ -10,12 +10,12 @@ import signal
 import sys
 from pathlib import Path
 
-from .cliargs import env_kwarg, figure_path, positive_int, task_ids
-from .config import ACTION_MODES, REWARD_TYPES
-from .devices import DEVICES
-from .hyperparams import ALGOS
-from .registry import TASKS
-from .vector.factory import VEC_KINDS
+from unified_manip.cliargs import env_kwarg, figure_path, positive_int, task_ids
+from unified_manip.config import ACTION_MODES, REWARD_TYPES
+from unified_manip.devices import DEVICES
+from unified_manip.hyperparams import ALGOS
+from unified_manip.registry import TASKS
+from unified_manip.vector.factory import VEC_KINDS
 
 
 def add_commands(sub) -> None:
@@ -83,7 +83,7 @@ def add_commands(sub) -> None:
 
 
 def cmd_train(args: argparse.Namespace) -> int:
-    from .train import TrainRequest, train
+    from unified_manip.train import TrainRequest, train
 
     req = TrainRequest(
         env=args.env,
@@ -108,7 +108,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
-    from .train import evaluate
+    from unified_manip.train import evaluate
 
     result = evaluate(
         Path(args.target),
@@ -131,7 +131,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from .bench import load_grid, run_grid
+    from unified_manip.bench import load_grid, run_grid
 
     grid = load_grid(Path(args.grid))
     out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
@@ -165,8 +165,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from .report import build_report
-    from .yamlfile import load_mapping
+    from unified_manip.report import build_report
+    from unified_manip.yamlfile import load_mapping
 
     results = Path(args.results)
     if not results.is_file():
@@ -180,7 +180,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    from .overview import plot_overview
+    from unified_manip.overview import plot_overview
 
     for results in map(Path, args.results):
         if not results.is_file():

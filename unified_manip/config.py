@@ -85,7 +85,7 @@ class EnvConfig:
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
         validate_reward_type(self.reward_type)
-        from .rewards import RewardConfig, RewardSpec  # rewards imports this module
+        from unified_manip.rewards import RewardConfig, RewardSpec  # rewards imports this module
 
         for name, cls in (("reward_config", RewardConfig), ("reward_spec", RewardSpec)):
             value = getattr(self, name)

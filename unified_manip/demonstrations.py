@@ -31,8 +31,8 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     (0: none): an off-policy algorithm (a replay buffer), a task with a scripted policy,
     and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
     can be translated into)."""
-    from .hyperparams import ALGOS
-    from .registry import get_task
+    from unified_manip.hyperparams import ALGOS
+    from unified_manip.registry import get_task
 
     if episodes < 0:
         raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")
@@ -55,7 +55,7 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
 def demonstrable_modes(task_id: str) -> list[str]:
     """The action modes of ``task_id`` that its scripted policy can play: those of the
     shared controllers (not a source's own ``native``)."""
-    from .registry import get_task
+    from unified_manip.registry import get_task
 
     return [mode for mode, config in get_task(task_id).controllers.items() if config.controller is not None]
 
@@ -65,8 +65,8 @@ def policy(task_id: str, action_mode: str, env):
     unused in ``ee_delta``): the task's scripted ``ee_delta`` policy, its actions played in
     ``action_mode`` through :class:`~unified_manip.controllers.translate.EEDeltaInMode` on
     the env's own rig."""
-    from .controllers.translate import EEDeltaInMode
-    from .registry import get_task
+    from unified_manip.controllers.translate import EEDeltaInMode
+    from unified_manip.registry import get_task
 
     spec = get_task(task_id)
     scripted = spec.scripted_policy("ee_delta")

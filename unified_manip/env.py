@@ -9,10 +9,10 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
-from .config import EnvConfig
-from .controllers.actions import checked_actions
-from .registry import get_task
-from .rewards import info_arrays, reward_spec_for
+from unified_manip.config import EnvConfig
+from unified_manip.controllers.actions import checked_actions
+from unified_manip.registry import get_task
+from unified_manip.rewards import info_arrays, reward_spec_for
 
 
 class UnifiedManipEnv(GoalEnv):

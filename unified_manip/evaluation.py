@@ -9,12 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from . import rundir
-from .devices import DeviceError, resolve_device
-from .hyperparams import get_algo
-from .registry import get_task
-from .request import TrainError
-from .rundir import RunDirectoryError
+from unified_manip import rundir
+from unified_manip.devices import DeviceError, resolve_device
+from unified_manip.hyperparams import get_algo
+from unified_manip.registry import get_task
+from unified_manip.request import TrainError
+from unified_manip.rundir import RunDirectoryError
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ def evaluate(
     import gymnasium as gym
     from scipy.stats import binomtest
 
-    from .config import validate_reward_type
+    from unified_manip.config import validate_reward_type
 
     if episodes <= 0:
         raise TrainError(f"--episodes must be positive, got {episodes}")
@@ -83,7 +83,7 @@ def evaluate(
     render = {"render_mode": "rgb_array", "render_width": 320, "render_height": 320} if video else {}
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from .vecenvs import normalized
+    from unified_manip.vecenvs import normalized
 
     env = gym.make(config["env"], **env_kwargs, **render)
     # HER models need an env to load; give them one over the same instance.

@@ -8,11 +8,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .config import EnvConfig, validate_reward_type
-from .hyperparams import ALGOS, check_her_warmup, resolve
-from .pretrain import check_settings as check_demonstration_settings
-from .registry import TASKS, get_task
-from .yamlfile import YamlFileError, load_mapping
+from unified_manip.config import EnvConfig, validate_reward_type
+from unified_manip.hyperparams import ALGOS, check_her_warmup, resolve
+from unified_manip.pretrain import check_settings as check_demonstration_settings
+from unified_manip.registry import TASKS, get_task
+from unified_manip.yamlfile import YamlFileError, load_mapping
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
 OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets", "env_kwargs")
@@ -106,7 +106,7 @@ def load_grid(path: Path) -> Grid:
             run_settings.append(f"{key}={doc[key]}")
     # Not given: each run takes its hyperparameter file's n_envs (else 1).
     n_envs = _per_key(path, "n_envs", doc["n_envs"], algos, "algorithms") if "n_envs" in doc else dict.fromkeys(algos)
-    from .benchmark import TargetError, parse_targets
+    from unified_manip.benchmark import TargetError, parse_targets
 
     try:  # the report marks each target met or missed
         parse_targets(doc.get("targets"), str(path))

@@ -153,7 +153,7 @@ def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, 
     path = Path(directory or DEFAULT_DIR) / f"{algo.name}.yaml"
     if not path.is_file():
         raise HyperparameterError(f"hyperparameter file {path} not found")
-    from .yamlfile import YamlFileError, key_line, load_mapping
+    from unified_manip.yamlfile import YamlFileError, key_line, load_mapping
 
     expected = "a mapping of task IDs with a 'default' entry"
     try:
@@ -188,7 +188,7 @@ def split_entry(key: str) -> tuple[str, str | None]:
 
 
 def _names_a_task(key: str) -> bool:
-    from .registry import TASKS
+    from unified_manip.registry import TASKS
 
     task_id, mode = split_entry(key)
     return task_id in TASKS and (mode is None or mode in TASKS[task_id].action_modes)

@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from .benchmark import grid_targets
-from .report_figures import curve_band, pyplot
-from .results import ResultsError, read_results
+from unified_manip.benchmark import grid_targets
+from unified_manip.report_figures import curve_band, pyplot
+from unified_manip.results import ResultsError, read_results
 
 #: File types the figure may be written as (matplotlib picks the format by suffix).
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")

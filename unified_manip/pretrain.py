@@ -42,9 +42,9 @@ def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dic
     (before training, and the loss during it: :func:`unified_manip.cloning_loss.check`) and
     the offline steps (:func:`unified_manip.offline.check`):
     what ``train`` and a grid's loading both check before anything starts."""
-    from .cloning_loss import check as check_cloning_loss
-    from .demonstrations import check as check_demonstrations
-    from .offline import check as check_offline
+    from unified_manip.cloning_loss import check as check_cloning_loss
+    from unified_manip.demonstrations import check as check_demonstrations
+    from unified_manip.offline import check as check_offline
 
     episodes = params.get("demonstrations", 0)
     check_demonstrations(task_id, action_mode, off_policy, episodes)

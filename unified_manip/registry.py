@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING, Callable, Mapping
 import gymnasium as gym
 import numpy as np
 
-from .config import ACTION_MODES, EnvConfig
-from .controllers import ControllerConfig
-from .rewards import SHAPINGS
+from unified_manip.config import ACTION_MODES, EnvConfig
+from unified_manip.controllers import ControllerConfig
+from unified_manip.rewards import SHAPINGS
 
 if TYPE_CHECKING:
-    from .backend import Backend
+    from unified_manip.backend import Backend
 
 NAMESPACE = "UnifiedManip"
 

@@ -12,7 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .stats import bootstrap_ci
+from unified_manip.stats import bootstrap_ci
 
 #: A group key is (algo, action mode, reward); labels name its parts in this order of
 #: the key's indices (action mode, reward, algo): what a reader compares first.

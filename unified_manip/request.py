@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .devices import DEVICES
-from .hyperparams import ALGOS
-from .registry import get_task
+from unified_manip.devices import DEVICES
+from unified_manip.hyperparams import ALGOS
+from unified_manip.registry import get_task
 
 
 class TrainError(ValueError):
@@ -70,7 +70,7 @@ class TrainRequest:
             value = getattr(self, name)
             if value is not None and value <= 0:
                 raise TrainError(f"--{name.replace('_', '-')} must be positive, got {value}")
-        from .vector.factory import resolve_vec
+        from unified_manip.vector.factory import resolve_vec
 
         try:
             resolve_vec(self.vec, self.env, self.n_envs or 1)

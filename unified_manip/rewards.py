@@ -48,10 +48,10 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from .config import validate_reward_type
+from unified_manip.config import validate_reward_type
 
 if TYPE_CHECKING:
-    from .config import EnvConfig
+    from unified_manip.config import EnvConfig
 
 #: Shaping templates: which terms the dense rewards use (``TaskSpec.shaping``).
 SHAPINGS: tuple[str, ...] = ("reach", "push", "grasp")

@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from .runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
+from unified_manip.runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
 
 STATUS = "status.json"
 CONFIG = "config.yaml"
@@ -102,7 +102,7 @@ def write_status(run_dir: Path, **status: Any) -> None:
 
 
 def read_config(run_dir: Path) -> dict[str, Any]:
-    from .yamlfile import YamlFileError, load_mapping
+    from unified_manip.yamlfile import YamlFileError, load_mapping
 
     try:
         return load_mapping(Path(run_dir) / CONFIG, "a run's settings (written by unified-manip train)")
@@ -170,7 +170,7 @@ def write_final(run_dir: Path, model, off_policy: bool) -> None:
         model.save_replay_buffer(tmp)
         os.replace(tmp, run_dir / "replay_buffer.pkl")
     if model.get_vec_normalize_env() is not None:
-        from .vecenvs import save_stats
+        from unified_manip.vecenvs import save_stats
 
         save_stats(model, run_dir / "vecnormalize.pkl")
 
@@ -190,7 +190,7 @@ def containing(target: Path) -> Path:
 
 def model_to_evaluate(target: Path, run_dir: Path) -> Path:
     """``target`` if it is a model .zip, else the run's best, final or newest checkpoint model."""
-    from . import checkpoints
+    from unified_manip import checkpoints
 
     if target.is_file():
         if not target.suffix == ".zip":
@@ -208,7 +208,7 @@ def model_to_evaluate(target: Path, run_dir: Path) -> Path:
 
 def stats_for(model_path: Path, run_dir: Path) -> Path:
     """The VecNormalize statistics saved together with ``model_path``."""
-    from . import checkpoints
+    from unified_manip import checkpoints
 
     model_path = Path(model_path)
     if model_path.parent.parent.name == checkpoints.CHECKPOINTS:

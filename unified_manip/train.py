@@ -20,14 +20,14 @@ from typing import Any
 
 import yaml
 
-from . import checkpoints, rundir
-from .devices import DeviceError, resolve_device
-from .evaluation import EvalResult, evaluate, write_video
-from .hyperparams import check_her_warmup, get_algo, resolve
-from .registry import get_task
-from .request import TrainError, TrainRequest
-from .rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
-from .vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+from unified_manip import checkpoints, rundir
+from unified_manip.devices import DeviceError, resolve_device
+from unified_manip.evaluation import EvalResult, evaluate, write_video
+from unified_manip.hyperparams import check_her_warmup, get_algo, resolve
+from unified_manip.registry import get_task
+from unified_manip.request import TrainError, TrainRequest
+from unified_manip.rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
+from unified_manip.vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
 
 __all__ = [
     "CONFIG", "STATUS", "EvalResult", "RunDirectoryError", "TrainError", "TrainRequest", "evaluate", "make_vec_env",
@@ -64,9 +64,9 @@ def train(
     # The envs a run steps are recorded (and compared) as config.yaml's n_envs.
     file_n_envs = params.pop("n_envs", 1)
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
-    from .vector.factory import resolve_vec
+    from unified_manip.vector.factory import resolve_vec
 
-    from .pretrain import check_settings as check_demonstration_settings
+    from unified_manip.pretrain import check_settings as check_demonstration_settings
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
@@ -89,8 +89,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
 
     import torch
 
-    from .callbacks import StopOnSignal, make_callbacks
-    from .vecenvs import eval_env as make_eval_env
+    from unified_manip.callbacks import StopOnSignal, make_callbacks
+    from unified_manip.vecenvs import eval_env as make_eval_env
 
     algo = get_algo(req.algo)
     rundir.check_same_run(run_dir, config, rundir.COMPARED)
@@ -218,8 +218,8 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
     after seeding a normalising run's statistics from them where it clones or learns offline.
     ``demonstrations.json`` records both, and the weight of the cloning loss kept during
     training (``bc_weight``, :func:`_keep_cloning`); results.csv carries it."""
-    from .demonstrations import SEED_OFFSET, prefill
-    from .pretrain import behaviour_clone, seed_statistics
+    from unified_manip.demonstrations import SEED_OFFSET, prefill
+    from unified_manip.pretrain import behaviour_clone, seed_statistics
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
     venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
@@ -247,7 +247,7 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
 def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) -> None:
     """Take ``steps`` of the algorithm's own updates on the demonstrations alone
     (:mod:`unified_manip.offline`) and add them to ``demonstrations.json``."""
-    from .offline import learn_offline
+    from unified_manip.offline import learn_offline
 
     path = req.directory / "demonstrations.json"
     done = json.loads(path.read_text())
@@ -262,7 +262,7 @@ def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampl
     """Add the cloning loss (Q-filtered unless ``q_filter`` is false; on the sampled action
     where ``sampled``) on the recorded demonstrations to every actor update from here on
     (:mod:`unified_manip.cloning_loss`; a resumed run adds it again)."""
-    from .cloning_loss import CloningLossError, attach
+    from unified_manip.cloning_loss import CloningLossError, attach
 
     done = json.loads((req.directory / "demonstrations.json").read_text())
     try:
@@ -273,7 +273,7 @@ def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampl
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
     """Each reward term's scale in the run's reward design (what the raw terms are logged from)."""
-    from .rewards import make_reward_spec
+    from unified_manip.rewards import make_reward_spec
 
     spec = make_reward_spec(req.reward_type, get_task(req.env).shaping)
     return {term.name: float(term.scale) for term in spec.terms}

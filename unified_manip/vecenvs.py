@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from .hyperparams import RUN_KEYS, get_algo
-from .request import TrainError, TrainRequest
+from unified_manip.hyperparams import RUN_KEYS, get_algo
+from unified_manip.request import TrainError, TrainRequest
 
 
 def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
@@ -22,11 +22,11 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from .vector.factory import resolve_vec
+    from unified_manip.vector.factory import resolve_vec
 
     kind = resolve_vec(vec, env_id, n_envs)
     if kind == "native":
-        from .vector.sb3 import make_monitored
+        from unified_manip.vector.sb3 import make_monitored
 
         return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
 
@@ -61,7 +61,7 @@ def eval_env(req: TrainRequest, n_envs: int):
     It has the training env's wrapper layers, because EvalCallback copies VecNormalize
     statistics layer by layer and refuses chains that differ: a ``VecMonitor`` over an
     unmonitored env when the training env is the native vector env, else ``Monitor``-ed."""
-    from .vector.factory import resolve_vec
+    from unified_manip.vector.factory import resolve_vec
 
     native = resolve_vec(req.vec, req.env, n_envs) == "native"
     try:

@@ -20,7 +20,7 @@ family was one module; they are imported on first access.
 
 from unified_manip.lazy import reexport
 
-from .specs import SPECS
+from unified_manip.tasks.arm4.specs import SPECS
 
 __all__ = ["SPECS"]
 

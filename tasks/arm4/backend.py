@@ -17,10 +17,10 @@ from unified_manip.controllers.rig import MujocoRig
 from unified_manip.physics import bad_state_warnings
 from unified_manip.rendering import Renderer, SceneOptions
 
-from ..contacts import touches_both
-from .controllers import CONTROLLERS
-from .goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
-from .scene import (
+from unified_manip.tasks.contacts import touches_both
+from unified_manip.tasks.arm4.controllers import CONTROLLERS
+from unified_manip.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
+from unified_manip.tasks.arm4.scene import (
     ASSET,
     CUBE_REST_Z,
     FINGER_OPEN,

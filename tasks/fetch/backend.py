@@ -15,11 +15,11 @@ from unified_manip.config import EnvConfig
 from unified_manip.rendering import SceneOptions
 from unified_manip.controllers.rig import MujocoRig
 
-from ..contacts import touches_both
-from ..upstream import UpstreamBackend
-from .controllers import CONTROLLERS
-from .model import actuated_model
-from .scene import (
+from unified_manip.tasks.contacts import touches_both
+from unified_manip.tasks.upstream import UpstreamBackend
+from unified_manip.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.tasks.fetch.model import actuated_model
+from unified_manip.tasks.fetch.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
     FINGER_GEOMS,

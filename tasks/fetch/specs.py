@@ -5,10 +5,10 @@ from __future__ import annotations
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
-from ..scripted import EEDeltaPolicy
-from .controllers import CONTROLLERS
-from .docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
-from .policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
+from unified_manip.tasks.scripted import EEDeltaPolicy
+from unified_manip.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
+from unified_manip.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
 
 _BACKEND = "unified_manip.tasks.fetch.backend:FetchBackend"
 _UPSTREAM = "gymnasium_robotics.envs.fetch.{module}:MujocoFetch{name}Env"

@@ -35,7 +35,7 @@ the family was one module; they are imported on first access.
 
 from unified_manip.lazy import reexport
 
-from .specs import SPECS
+from unified_manip.tasks.robosuite_tasks.specs import SPECS
 
 __all__ = ["SPECS"]
 

@@ -15,11 +15,11 @@ from unified_manip.controllers.ik import IKJoints
 from unified_manip.physics import bad_state_warnings
 from unified_manip.rendering import Renderer, SceneOptions
 
-from .controllers import CONTROLLERS
-from .goals import TASK_DEFS
-from .options import validate_options
-from .rig import SuiteRig
-from .suite import UNLIMITED_RANGE, make_upstream
+from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.tasks.robosuite_tasks.options import validate_options
+from unified_manip.tasks.robosuite_tasks.rig import SuiteRig
+from unified_manip.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
 
 #: How robosuite scenes are drawn: robosuite's ``frontview`` camera for frames and its
 #: ``agentview`` camera for the ``image`` observation, without the collision geoms

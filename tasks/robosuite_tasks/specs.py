@@ -5,10 +5,10 @@ from __future__ import annotations
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec
 
-from ..scripted import EEDeltaPolicy
-from .controllers import CONTROLLERS
-from .docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
-from .policies import can_policy, door_policy, lift_policy, stack_policy
+from unified_manip.tasks.scripted import EEDeltaPolicy
+from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from unified_manip.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 
 _PACKAGE = "unified_manip.tasks.robosuite_tasks"
 

@@ -22,7 +22,7 @@ this package, as when the family was one module.
 
 from unified_manip.lazy import reexport
 
-from .specs import SPECS
+from unified_manip.tasks.shadow_hand.specs import SPECS
 
 __all__ = ["SPECS"]
 

@@ -11,9 +11,9 @@ from gymnasium_robotics.envs.shadow_dexterous_hand.hand_env import DEFAULT_CAMER
 from unified_manip.config import EnvConfig
 from unified_manip.rendering import SceneOptions
 
-from ..upstream import UpstreamBackend
-from .controllers import CONTROLLERS
-from .rig import HandRig
+from unified_manip.tasks.upstream import UpstreamBackend
+from unified_manip.tasks.shadow_hand.controllers import CONTROLLERS
+from unified_manip.tasks.shadow_hand.rig import HandRig
 
 #: The block is still on the hand while its centre is above this height, m (upstream's reset check).
 BLOCK_ON_HAND_Z = 0.04

@@ -5,9 +5,9 @@ from __future__ import annotations
 from unified_manip.lazy import lazy
 from unified_manip.registry import TaskSpec, euclidean
 
-from .controllers import CONTROLLERS
-from .docs import BLOCK_DOC, REACH_DOC
-from .goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
+from unified_manip.tasks.shadow_hand.controllers import CONTROLLERS
+from unified_manip.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
+from unified_manip.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
 
 _BACKEND = "unified_manip.tasks.shadow_hand.backend:HandBackend"
 _UPSTREAM = "gymnasium_robotics.envs.shadow_dexterous_hand"

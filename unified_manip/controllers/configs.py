@@ -19,7 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..lazy import resolve
+from unified_manip.lazy import resolve
 
 #: What a controller sends to the rig: joint position targets, joint torques or joint
 #: velocities. The rig configures its actuators for it once, when the env is built.

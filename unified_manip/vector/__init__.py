@@ -20,6 +20,6 @@ module             concept
 =================  =============================================================
 """
 
-from .factory import VectorFallbackWarning, make_vector_env, native_support
+from unified_manip.vector.factory import VectorFallbackWarning, make_vector_env, native_support
 
 __all__ = ["VectorFallbackWarning", "make_vector_env", "native_support"]

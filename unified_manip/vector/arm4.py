@@ -28,18 +28,18 @@ from typing import Any, Sequence
 import mujoco
 import numpy as np
 
-from ..backend import Backend
-from ..controllers.joint import (
+from unified_manip.backend import Backend
+from unified_manip.controllers.joint import (
     JointDeltaController,
     JointPositionController,
     JointTorqueController,
     JointVelocityController,
 )
-from .batched import BatchedBackend
+from unified_manip.vector.batched import BatchedBackend
 
 _QPOS_QVEL = int(mujoco.mjtState.mjSTATE_QPOS | mujoco.mjtState.mjSTATE_QVEL)
 #: The warnings MuJoCo counts when it finds a diverged state and resets it (as
-#: ``unified_manip.control.bad_state_warnings``).
+#: ``unified_manip.physics.bad_state_warnings``).
 _BAD_QPOS, _BAD_QVEL, _BAD_QACC = (
     int(mujoco.mjtWarning.mjWARN_BADQPOS),
     int(mujoco.mjtWarning.mjWARN_BADQVEL),

@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from ..backend import Backend
-from .pool import PhysicsPool
+from unified_manip.backend import Backend
+from unified_manip.vector.pool import PhysicsPool
 
 
 class BatchedBackend(abc.ABC):

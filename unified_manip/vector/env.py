@@ -18,12 +18,12 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..config import EnvConfig
-from ..controllers.actions import checked_actions
-from ..registry import get_task
-from ..rewards import INFO_KEYS, info_arrays, reward_spec_for
-from . import infos as vinfo
-from .batched import BatchedBackend
+from unified_manip.config import EnvConfig
+from unified_manip.controllers.actions import checked_actions
+from unified_manip.registry import get_task
+from unified_manip.rewards import INFO_KEYS, info_arrays, reward_spec_for
+from unified_manip.vector import infos as vinfo
+from unified_manip.vector.batched import BatchedBackend
 
 
 class NativeVectorEnv(VectorEnv):

@@ -14,9 +14,9 @@ from typing import Any
 
 from gymnasium.vector import AutoresetMode, SyncVectorEnv, VectorEnv
 
-from ..config import EnvConfig
-from ..registry import get_task
-from .pool import default_num_threads
+from unified_manip.config import EnvConfig
+from unified_manip.registry import get_task
+from unified_manip.vector.pool import default_num_threads
 
 #: Family -> ``"module:Class"`` of its batched backend, built as
 #: ``Class(backends, action_mode, num_threads)`` from N of the family's own backends.
@@ -105,7 +105,7 @@ def make_vector_env(
             return gym.make(task_id, max_episode_steps=max_episode_steps, **env_kwargs)
 
         return SyncVectorEnv([make_one] * num_envs, autoreset_mode=autoreset_mode)
-    from .env import NativeVectorEnv
+    from unified_manip.vector.env import NativeVectorEnv
 
     options = dict(env_kwargs)
     config = EnvConfig(
