@@ -20,7 +20,7 @@ from unified_manip.report import build_report
 from unified_manip.report_figures import final_bars
 from unified_manip.training_curves import read_scalars
 from unified_manip.rewards import RewardSpec, Term
-from unified_manip.sanity import dense_reward_check
+from unified_manip.tools.sanity import dense_reward_check
 
 ROOT = Path(__file__).resolve().parents[1]
 

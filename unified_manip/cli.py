@@ -38,7 +38,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 
 def cmd_speed(args: argparse.Namespace) -> int:
-    from unified_manip import speed
+    from unified_manip.tools import speed
 
     results = speed.run(args.env, args.modes, steps=args.steps, repeats=args.repeats)
     table = Table(title=f"env steps/s vs raw physics (median of {args.repeats} x {args.steps} steps)")

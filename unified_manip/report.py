@@ -5,7 +5,7 @@ final success are ``scipy.stats.bootstrap`` percentile intervals over seeds; the
 interquartile mean (IQM, with its stratified-bootstrap interval) and the probability of
 improvement come from ``rliable``. The report states the budget, the seeds, the
 package versions and the commands that produced it, and includes the dense-reward
-sanity check of :mod:`unified_manip.sanity`.
+sanity check of :mod:`unified_manip.tools.sanity`.
 """
 
 from __future__ import annotations
@@ -159,7 +159,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         lines += claims_section(rows, claims)
 
     if dense_check:
-        from unified_manip.sanity import dense_reward_check
+        from unified_manip.tools.sanity import dense_reward_check
 
         tasks = sorted(by_task)
         lines += ["## Dense-reward sanity check", ""]

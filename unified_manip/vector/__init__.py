@@ -16,7 +16,6 @@ module             concept
 ``env``            ``NativeVectorEnv``: the Gymnasium vector env
 ``factory``        ``make_vector_env``: the ``vector_entry_point``, and the fallback
 ``sb3``            the Stable-Baselines3 ``VecEnv`` adapter
-``bench``          the throughput benchmark (``python -m unified_manip.vector.bench``)
 =================  =============================================================
 """
 

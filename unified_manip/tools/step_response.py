@@ -1,4 +1,4 @@
-"""How far the gripper overshoots one action step: ``python -m unified_manip.step_response``.
+"""How far the gripper overshoots one action step: ``python -m unified_manip.tools.step_response``.
 
 Issue 10 (3b) lists the arm's stiff servos, which overshoot a joint step by up to ~13%, as
 one reason the arm might learn more slowly than Fetch. What an agent acting in an
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from unified_manip.exploration import _grip_reader
+from unified_manip.tools.exploration import _grip_reader
 
 #: Task ID and action mode of each compared case: the arm's incremental modes, which
 #: re-target from where the arm is (``*_delta``) or from the last target (``*_target_delta``),
@@ -91,7 +91,7 @@ def measure(task_id: str, action_mode: str, axis: int = 0, episodes: int = 5, st
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.step_response", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.step_response", description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=5)
     parser.add_argument("--axes", type=int, nargs="+", default=[0, 1], help="the action dimensions stepped, "
                         "one at a time (default 0 1)")

@@ -1,4 +1,4 @@
-"""What random exploration gives HER on each task: ``python -m unified_manip.exploration``.
+"""What random exploration gives HER on each task: ``python -m unified_manip.tools.exploration``.
 
 HER learns about the object only from episodes in which the object moved, and it gets a
 free positive label whenever a goal is met by chance. This measures both under uniform
@@ -176,7 +176,7 @@ def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.exploration", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.exploration", description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--json", help="write the results here")
     parser.add_argument("--noise", type=float, nargs="+", metavar="SIGMA",

@@ -1,6 +1,6 @@
 """Throughput of the native vector env against the alternatives, and its physics limit.
 
-Run it as ``python -m unified_manip.vector.bench`` (``--help`` for the options). For
+Run it as ``python -m unified_manip.tools.vector_bench`` (``--help`` for the options). For
 each action mode and number of envs N, every kind of vector env plays the same random
 actions (env steps per second over all N envs; autoresets included, as in training):
 
@@ -93,7 +93,7 @@ def _action_dim(env) -> int:
 
 def raw_rate(task_id: str, mode: str, steps: int) -> float:
     """Single-thread env steps per second of the physics alone (``unified-manip speed``)."""
-    from unified_manip.speed import measure
+    from unified_manip.tools.speed import measure
 
     return measure(task_id, mode, steps=steps).raw_steps_per_s
 
@@ -209,7 +209,7 @@ def _csv(kind: Callable[[str], Any]) -> Callable[[str], list]:
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.vector.pool import default_num_threads
 
-    p = argparse.ArgumentParser(prog="python -m unified_manip.vector.bench", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="python -m unified_manip.tools.vector_bench", description=__doc__.split("\n\n")[0])
     p.add_argument("--env", default="UnifiedManip/Arm4PickAndPlace-v0", help="task ID")
     p.add_argument("--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes")
     p.add_argument("--num-envs", type=_csv(int), default=[1, 2, 4, 8, 16, 32], help="comma-separated N")

@@ -1,8 +1,8 @@
 """Soak and memory benchmark: long random rollouts, many rendered frames, many make/close
 cycles, with resident memory, open file descriptors, threads and live GL contexts counted.
 
-    python -m unified_manip.soak                        # the full sizes (tens of minutes)
-    python -m unified_manip.soak --steps 3000 --frames 30 --cycles 6   # a quick check
+    python -m unified_manip.tools.soak                        # the full sizes (tens of minutes)
+    python -m unified_manip.tools.soak --steps 3000 --frames 30 --cycles 6   # a quick check
 
 Three parts, each against its limits (the process exits 1 if one is missed):
 
@@ -210,7 +210,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.soak", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.soak", description=__doc__.split("\n\n")[0])
     parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
     parser.add_argument("--steps", type=_positive, default=200_000, help="random steps per arm action mode")
     parser.add_argument("--frames", type=_positive, default=5_000, help="rgb_array frames per family")
@@ -224,7 +224,7 @@ def main(argv: list[str] | None = None) -> int:
     if unknown or not parts:
         parser.error(f"unknown part {unknown[0] if unknown else ''!r}; expected steps, frames or cycles")
     os.environ.setdefault("MUJOCO_GL", "egl")
-    command = "python -m unified_manip.soak " + " ".join(sys.argv[1:] if argv is None else argv)
+    command = "python -m unified_manip.tools.soak " + " ".join(sys.argv[1:] if argv is None else argv)
     for task in {STEP_TASK, *FRAME_TASKS, *CYCLE_TASKS}:  # load every family now, not hours into the run
         _make(task).close()
     started = time.time()

@@ -1,4 +1,4 @@
-"""Training-throughput levers measured side by side: ``python -m unified_manip.levers``.
+"""Training-throughput levers measured side by side: ``python -m unified_manip.tools.levers``.
 
 Each *lever* is one training setting: an algorithm key, ``--set`` overrides and a number
 of envs (stepped in one process, so every setting gets the same single core). The
@@ -122,7 +122,7 @@ def measure(task_id: str, action_mode: str, levers: tuple[Lever, ...] = LEVERS, 
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.levers", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.levers", description=__doc__.splitlines()[0])
     parser.add_argument("--env", default="UnifiedManip/FetchPush-v0")
     parser.add_argument("--action-mode", default="native")
     parser.add_argument("--levers", help="comma-separated lever names (default: all)")

@@ -1,6 +1,6 @@
 """Checkpoint size and write time: SB3's whole-buffer pickle against the trimmed checkpoint.
 
-    python -m unified_manip.checkpoint_size --steps 10000 --buffer-size 1000000
+    python -m unified_manip.tools.checkpoint_size --steps 10000 --buffer-size 1000000
 
 Builds the ``sac_her`` baseline of a task (its hyperparameters, with ``buffer_size`` as
 given), plays ``--steps`` env steps without learning (``learning_starts`` past them, so
@@ -111,7 +111,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.checkpoint_size", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.checkpoint_size", description=__doc__.split("\n\n")[0])
     parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
     from unified_manip.registry import TASKS
 
