@@ -15,12 +15,14 @@ import numpy as np
 import pytest
 import yaml
 
-from unified_manip.bench import GridError, load_grid, read_results, run_grid, write_results
-from unified_manip.report import build_report
-from unified_manip.report_figures import final_bars
-from unified_manip.training_curves import read_scalars
+from unified_manip.experiments.grid import GridError, load_grid
+from unified_manip.experiments.results import read_results, write_results
+from unified_manip.experiments.bench import run_grid
+from unified_manip.experiments.report import build_report
+from unified_manip.experiments.figures import final_bars
+from unified_manip.experiments.curves import read_scalars
 from unified_manip.rewards import RewardSpec, Term
-from unified_manip.tools.sanity import dense_reward_check
+from unified_manip.experiments.sanity import dense_reward_check
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -340,7 +342,7 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
             "alone before the first rollout. 2 of them kept") in text
     import csv
 
-    from unified_manip.results import RESULT_COLUMNS
+    from unified_manip.experiments.results import RESULT_COLUMNS
 
     old = bench / "old.csv"
     with old.open("w", newline="") as f:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from unified_manip.benchmark import Target, TargetError, benchmark_table, parse_targets, steps_to
+from unified_manip.experiments.targets import Target, TargetError, benchmark_table, parse_targets, steps_to
 
 
 def _row(seed: int, curve, wall: float = 3600.0, steps: int = 1000, mode: str = "ee_delta") -> dict:

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from unified_manip import hyperparams
-from unified_manip.bench import RESULT_COLUMNS
+from unified_manip.experiments.results import RESULT_COLUMNS
 from unified_manip.cli import main
 
 TASK = "UnifiedManip/Arm4Reach-v0"

@@ -29,7 +29,8 @@ import yaml
 
 import unified_manip
 from unified_manip import checkpoints
-from unified_manip.bench import load_grid, read_results
+from unified_manip.experiments.grid import load_grid
+from unified_manip.experiments.results import read_results
 from unified_manip.registry import TASKS, register_task
 from unified_manip.runlock import read_owner
 
@@ -240,7 +241,7 @@ def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
 
 
 def test_a_retried_run_waits_for_a_live_attempt_and_never_writes_beside_it(tmp_path, monkeypatch):
-    from unified_manip import bench
+    from unified_manip.experiments import bench
     from unified_manip.runlock import DirectoryLock
     from unified_manip.train import TrainError
 

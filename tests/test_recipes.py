@@ -12,7 +12,7 @@ import torch
 import yaml
 
 import unified_manip
-from unified_manip.bench import load_grid
+from unified_manip.experiments.grid import load_grid
 from unified_manip.devices import DeviceError, resolve_device
 from unified_manip.hyperparams import ALGOS, load_file, resolve, split_entry
 
@@ -112,7 +112,7 @@ def test_a_grid_may_give_each_task_its_own_budget(tmp_path):
     ("many", "steps must be a positive integer, got 'many'"),
 ])
 def test_bad_budgets_are_refused(tmp_path, steps, message):
-    from unified_manip.bench import GridError
+    from unified_manip.experiments.grid import GridError
 
     with pytest.raises(GridError, match=message):
         load_grid(_grid(tmp_path, steps))
@@ -128,7 +128,7 @@ def test_n_envs_may_differ_by_algorithm(tmp_path):
 
 
 def test_only_selects_runs_and_refuses_what_matches_nothing(tmp_path):
-    from unified_manip.bench import GridError, selected
+    from unified_manip.experiments.grid import GridError, selected
 
     grid = load_grid(ROOT / "baselines" / "grids" / "reward_design_1m.yaml")
     ppo = selected(grid, ("algo=ppo",))

@@ -134,10 +134,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from unified_manip.grid import GridError
+    from unified_manip.experiments.grid import GridError
     from unified_manip.hyperparams import HyperparameterError
     from unified_manip.request import TrainError
-    from unified_manip.results import ResultsError
+    from unified_manip.experiments.results import ResultsError
     from unified_manip.runlock import DirectoryInUse
     from unified_manip.yamlfile import YamlFileError
 

@@ -131,7 +131,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from unified_manip.bench import load_grid, run_grid
+    from unified_manip.experiments.grid import load_grid
+    from unified_manip.experiments.bench import run_grid
 
     grid = load_grid(Path(args.grid))
     out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
@@ -165,7 +166,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from unified_manip.report import build_report
+    from unified_manip.experiments.report import build_report
     from unified_manip.yamlfile import load_mapping
 
     results = Path(args.results)
@@ -180,7 +181,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    from unified_manip.overview import plot_overview
+    from unified_manip.experiments.plot import plot_overview
 
     for results in map(Path, args.results):
         if not results.is_file():

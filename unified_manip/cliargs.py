@@ -52,7 +52,7 @@ def figure_path(value: str) -> str:
     """A figure's output path; its suffix picks the format."""
     from pathlib import Path
 
-    from unified_manip.overview import FIGURE_SUFFIXES
+    from unified_manip.experiments.plot import FIGURE_SUFFIXES
 
     if Path(value).suffix.lower() not in FIGURE_SUFFIXES:
         raise argparse.ArgumentTypeError(f"expected a figure path ending in {', '.join(FIGURE_SUFFIXES)}; got {value!r}")

@@ -63,7 +63,7 @@ class EnvConfig:
             or ``None`` for the defaults.
         reward_spec: A reward design of your own
             (:class:`~unified_manip.rewards.RewardSpec`) used instead of ``reward_type``'s,
-            e.g. a candidate checked by ``unified_manip.tools.sanity``; ``None`` normally.
+            e.g. a candidate checked by ``unified_manip.experiments.sanity``; ``None`` normally.
         options: Family-specific keyword arguments (e.g. ``robot`` for robosuite),
             validated by the family itself.
         controller_options: Parameters of the action mode's controller config that

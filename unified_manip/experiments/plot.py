@@ -3,7 +3,7 @@ one or more benches, a panel per task, for a README or a paper.
 
 Each panel draws one line per *setting* (action mode, reward, algorithm, and whether the
 runs started from scripted demonstrations): the mean over seeds with its 95% bootstrap
-band (:func:`unified_manip.report_figures.curve_band`), and each bench's target for the
+band (:func:`unified_manip.experiments.figures.curve_band`), and each bench's target for the
 task as a dashed line. rl-baselines3-zoo draws one plot per env; this puts a benchmark's
 tasks side by side, in the order they first appear in the results files.
 """
@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.benchmark import grid_targets
-from unified_manip.report_figures import curve_band, pyplot
-from unified_manip.results import ResultsError, read_results
+from unified_manip.experiments.targets import grid_targets
+from unified_manip.experiments.figures import curve_band, pyplot
+from unified_manip.experiments.results import ResultsError, read_results
 
 #: File types the figure may be written as (matplotlib picks the format by suffix).
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")

@@ -5,7 +5,7 @@ final success are ``scipy.stats.bootstrap`` percentile intervals over seeds; the
 interquartile mean (IQM, with its stratified-bootstrap interval) and the probability of
 improvement come from ``rliable``. The report states the budget, the seeds, the
 package versions and the commands that produced it, and includes the dense-reward
-sanity check of :mod:`unified_manip.tools.sanity`.
+sanity check of :mod:`unified_manip.experiments.sanity`.
 """
 
 from __future__ import annotations
@@ -19,10 +19,10 @@ from typing import Any
 import numpy as np
 import yaml
 
-from unified_manip.bench import read_results
-from unified_manip.benchmark import benchmark_table, grid_targets
-from unified_manip.report_figures import plot_final, plot_task
-from unified_manip.stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
+from unified_manip.experiments.results import read_results
+from unified_manip.experiments.targets import benchmark_table, grid_targets
+from unified_manip.experiments.figures import plot_final, plot_task
+from unified_manip.experiments.stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
 
 
 def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]]:
@@ -159,7 +159,7 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         lines += claims_section(rows, claims)
 
     if dense_check:
-        from unified_manip.tools.sanity import dense_reward_check
+        from unified_manip.experiments.sanity import dense_reward_check
 
         tasks = sorted(by_task)
         lines += ["## Dense-reward sanity check", ""]
@@ -192,7 +192,7 @@ def _task_targets(targets: tuple, task: str) -> dict[str, float]:
 
 def _training_section(by_task: dict, runs_dir: Path, out: Path) -> list[str]:
     """Training-episode curves from the runs' logs (:mod:`.training_curves`), where present."""
-    from unified_manip.training_curves import plot_training
+    from unified_manip.experiments.curves import plot_training
 
     figs = [(task, plot_training(task, groups, runs_dir, out)) for task, groups in by_task.items()]
     if not any(fig for _, fig in figs):

@@ -41,8 +41,8 @@ from typing import Any, Callable
 
 import yaml
 
-from unified_manip.grid import OPTIONAL, REQUIRED, Grid, GridError, RunSpec, load_grid, selected  # noqa: F401
-from unified_manip.results import RESULT_COLUMNS, ResultsError, collect_row, read_results, write_results  # noqa: F401
+from unified_manip.experiments.grid import Grid, GridError, RunSpec, selected
+from unified_manip.experiments.results import collect_row, write_results
 from unified_manip.runlock import DirectoryLock
 
 #: How long a run waits for its directory when another process still owns it (an

@@ -1,8 +1,8 @@
 """The report's figures: success against steps per task, and final success per setting.
 
-A *group* is what :func:`unified_manip.report._group` gives for one task: ``(algo,
+A *group* is what :func:`unified_manip.experiments.report._group` gives for one task: ``(algo,
 action mode, reward) -> runs`` (result rows, one per seed). Intervals are the 95%
-percentile bootstrap over seeds of :mod:`unified_manip.stats`.
+percentile bootstrap over seeds of :mod:`unified_manip.experiments.stats`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from unified_manip.stats import bootstrap_ci
+from unified_manip.experiments.stats import bootstrap_ci
 
 #: A group key is (algo, action mode, reward); labels name its parts in this order of
 #: the key's indices (action mode, reward, algo): what a reader compares first.

@@ -1,5 +1,5 @@
 """Grid files: which runs a bench trains (``baselines/grids/*.yaml``), fully validated
-before any run starts. The file format is described in :mod:`unified_manip.bench`."""
+before any run starts. The file format is described in :mod:`unified_manip.experiments.bench`."""
 
 from __future__ import annotations
 
@@ -106,7 +106,7 @@ def load_grid(path: Path) -> Grid:
             run_settings.append(f"{key}={doc[key]}")
     # Not given: each run takes its hyperparameter file's n_envs (else 1).
     n_envs = _per_key(path, "n_envs", doc["n_envs"], algos, "algorithms") if "n_envs" in doc else dict.fromkeys(algos)
-    from unified_manip.benchmark import TargetError, parse_targets
+    from unified_manip.experiments.targets import TargetError, parse_targets
 
     try:  # the report marks each target met or missed
         parse_targets(doc.get("targets"), str(path))
