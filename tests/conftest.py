@@ -56,8 +56,8 @@ def demonstrated_model(algo_cls, her: bool, normalize: bool = False):
     from stable_baselines3 import HerReplayBuffer
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from unified_manip.demonstrations import prefill
-    from unified_manip.vecenvs import make_vec_env
+    from unified_manip.training.demonstrations import prefill
+    from unified_manip.training.run_envs import make_vec_env
 
     kwargs = {"action_mode": DEMO_MODE, "reward_type": "sparse"}
     venv = make_vec_env(DEMO_TASK, kwargs, 1, 3, None, "dummy")
@@ -73,7 +73,7 @@ def demonstrated_model(algo_cls, her: bool, normalize: bool = False):
 def resume_to_the_end(request) -> list[str]:
     """Train ``request`` (a run interrupted after its first checkpoint) to the end, check
     that it resumed and finished, and return what it logged."""
-    from unified_manip.train import train
+    from unified_manip.training.train import train
 
     logged: list[str] = []
     assert train(request, progress=False, threads=1, log=logged.append)["state"] == "finished"
@@ -91,7 +91,7 @@ def interrupt_after_first_checkpoint(run_dir, call) -> None:
     import signal
     import threading
 
-    from unified_manip import checkpoints
+    from unified_manip.training import checkpoints
 
     def interrupt():
         while not checkpoints.published(run_dir):

@@ -12,8 +12,9 @@ from gymnasium import spaces
 from stable_baselines3 import HerReplayBuffer
 from stable_baselines3.common.buffers import DictReplayBuffer, ReplayBuffer
 
-from unified_manip import checkpoints, replay_buffers
-from unified_manip.runlock import DirectoryInUse, DirectoryLock, read_owner
+from unified_manip.training import checkpoints
+from unified_manip.training import replay_buffers
+from unified_manip.training.runlock import DirectoryInUse, DirectoryLock, read_owner
 
 BOX = spaces.Box(-1, 1, (5,), np.float32)
 GOALS = spaces.Dict({"observation": BOX, "achieved_goal": spaces.Box(-1, 1, (3,), np.float32),

@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from unified_manip import hyperparams
+from unified_manip.training import hyperparams
 from unified_manip.experiments.results import RESULT_COLUMNS
 from unified_manip.cli import main
 
@@ -172,7 +172,7 @@ def test_eval_of_a_normalize_run_without_its_statistics(tmp_path, capsys):
 
 
 def test_bench_on_a_directory_another_bench_owns(tmp_path, capsys):
-    from unified_manip.runlock import DirectoryLock
+    from unified_manip.training.runlock import DirectoryLock
 
     with DirectoryLock(tmp_path / "out", "bench directory"):
         line = one_line_exit_2(["bench", grid(tmp_path), "--out", str(tmp_path / "out")], capsys)

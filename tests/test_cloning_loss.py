@@ -22,8 +22,8 @@ from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_f
 from test_pretrain import _action_error, _request
 from test_train import tb_tags
 
-from unified_manip.cloning_loss import CloningLossError, attach, check
-from unified_manip.train import train
+from unified_manip.training.cloning_loss import CloningLossError, attach, check
+from unified_manip.training.train import train
 
 
 def _pure_cloning_steps(model, steps: int) -> None:

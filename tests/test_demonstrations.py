@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 from conftest import interrupt_after_first_checkpoint
 
-from unified_manip import checkpoints
+from unified_manip.training import checkpoints
 import unified_manip
-from unified_manip.demonstrations import DemonstrationError, check, episodes_per_env, policies, prefill
-from unified_manip.request import TrainRequest
-from unified_manip.train import train
+from unified_manip.training.demonstrations import DemonstrationError, check, episodes_per_env, policies, prefill
+from unified_manip.training.request import TrainRequest
+from unified_manip.training.train import train
 
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
 FETCH = "UnifiedManip/FetchPickAndPlace-v0"
@@ -32,7 +32,7 @@ def _model_and_env(task_id: str, n_envs: int, vec: str):
     from sb3_contrib import TQC
     from stable_baselines3 import HerReplayBuffer
 
-    from unified_manip.vecenvs import make_vec_env
+    from unified_manip.training.run_envs import make_vec_env
 
     kwargs = {"action_mode": "ee_delta", "reward_type": "sparse"}
     venv = make_vec_env(task_id, kwargs, n_envs, 7, None, vec)
@@ -136,7 +136,7 @@ def test_in_joint_position_mode_the_translation_is_the_ee_delta_command():
 
 
 def _dummy(task_id: str, mode: str, n_envs: int):
-    from unified_manip.vecenvs import make_vec_env
+    from unified_manip.training.run_envs import make_vec_env
 
     return make_vec_env(task_id, {"action_mode": mode, "reward_type": "sparse"}, n_envs, 0, None, "dummy")
 
@@ -250,7 +250,7 @@ def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controll
     ],
 )
 def test_runs_that_cannot_take_demonstrations_are_refused(algo, task_id, mode, episodes, message):
-    from unified_manip.hyperparams import get_algo
+    from unified_manip.training.hyperparams import get_algo
 
     with pytest.raises(DemonstrationError) as err:
         check(task_id, mode, get_algo(algo).off_policy, episodes)

@@ -28,11 +28,11 @@ import pytest
 import yaml
 
 import unified_manip
-from unified_manip import checkpoints
+from unified_manip.training import checkpoints
 from unified_manip.experiments.grid import load_grid
 from unified_manip.experiments.results import read_results
 from unified_manip.registry import TASKS, register_task
-from unified_manip.runlock import read_owner
+from unified_manip.training.runlock import read_owner
 
 ROOT = Path(__file__).resolve().parents[1]
 TASK = "UnifiedManip/Arm4Reach-v0"
@@ -242,8 +242,8 @@ def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
 
 def test_a_retried_run_waits_for_a_live_attempt_and_never_writes_beside_it(tmp_path, monkeypatch):
     from unified_manip.experiments import bench
-    from unified_manip.runlock import DirectoryLock
-    from unified_manip.train import TrainError
+    from unified_manip.training.runlock import DirectoryLock
+    from unified_manip.training.train import TrainError
 
     spec = load_grid(_write(tmp_path / "grid.yaml", GRID)).runs[0]
     run_dir = tmp_path / "out" / "runs" / spec.name
@@ -296,7 +296,7 @@ def diverging_task():
 
 
 def test_diverging_physics_ends_the_episode_and_writes_no_nan(diverging_task, tmp_path):
-    from unified_manip.train import TrainRequest, train
+    from unified_manip.training.train import TrainRequest, train
 
     run_dir = tmp_path / "run"
     req = TrainRequest(env=diverging_task, action_mode="ee_delta", reward_type="sparse", algo="sac_her", steps=300,

@@ -18,8 +18,8 @@ import torch
 from conftest import demonstrated_model, interrupt_after_first_checkpoint, resume_to_the_end
 from test_pretrain import _request as pretrain_request
 
-from unified_manip.offline import learn_offline
-from unified_manip.train import train
+from unified_manip.training.offline import learn_offline
+from unified_manip.training.train import train
 
 
 def _returns_and_values(model) -> tuple[np.ndarray, np.ndarray]:
@@ -83,7 +83,7 @@ def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path
 
 @pytest.mark.parametrize("steps", [0, 1, 2, 3, 252, 253, 10000])
 def test_the_steps_run_in_chunks_with_the_first_and_last_alone(steps):
-    from unified_manip.offline import CHUNK, _chunks
+    from unified_manip.training.offline import CHUNK, _chunks
 
     chunks = _chunks(steps)
     assert sum(chunks) == steps and all(0 < c <= CHUNK for c in chunks)

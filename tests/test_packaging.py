@@ -84,7 +84,7 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     subprocess.run([*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
                    check=True, capture_output=True, timeout=300)
 
-    where = _python("import unified_manip, unified_manip.hyperparams as h; print(unified_manip.__file__); "
+    where = _python("import unified_manip, unified_manip.training.hyperparams as h; print(unified_manip.__file__); "
                     "print(h.DEFAULT_DIR)", cwd=work, python=python).splitlines()
     assert all(line.startswith(site) for line in where), where
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}

@@ -18,10 +18,10 @@ import pytest
 import torch
 from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_first_checkpoint, resume_to_the_end
 
-from unified_manip.offline import OfflineError
-from unified_manip.pretrain import PretrainError, behaviour_clone, check_settings, seed_statistics
-from unified_manip.request import TrainRequest
-from unified_manip.train import train
+from unified_manip.training.offline import OfflineError
+from unified_manip.training.pretrain import PretrainError, behaviour_clone, check_settings, seed_statistics
+from unified_manip.training.request import TrainRequest
+from unified_manip.training.train import train
 
 def _action_error(model) -> float:
     """Mean absolute difference between the actor's deterministic actions and the stored
@@ -103,7 +103,7 @@ def test_a_run_clones_once_and_records_it(tmp_path):
     ],
 )
 def test_pretraining_without_demonstrations_is_refused(settings, error, message):
-    """Cloning (bc_steps) and offline steps (offline_steps, :mod:`unified_manip.offline`)
+    """Cloning (bc_steps) and offline steps (offline_steps, :mod:`unified_manip.training.offline`)
     both need demonstrations and a count of 0 or more."""
     with pytest.raises(error) as err:
         check_settings(DEMO_TASK, DEMO_MODE, True, settings)

@@ -18,8 +18,8 @@ import pytest
 import yaml
 
 import unified_manip
-from unified_manip import checkpoints
-from unified_manip.hyperparams import ALGOS, HyperparameterError, resolve
+from unified_manip.training import checkpoints
+from unified_manip.training.hyperparams import ALGOS, HyperparameterError, resolve
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -313,8 +313,8 @@ def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
 def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
     """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
     task without one), so ``train --algo ALGO`` works with the defaults on every ID x mode."""
-    from unified_manip.demonstrations import check
-    from unified_manip.hyperparams import check_her_warmup, get_algo
+    from unified_manip.training.demonstrations import check
+    from unified_manip.training.hyperparams import check_her_warmup, get_algo
 
     for task_id, spec in unified_manip.TASKS.items():
         for mode in spec.action_modes:
@@ -336,7 +336,7 @@ def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_
         "at step 1600 (8 envs x 200 steps), and HER samples goals from finished episodes only; set learning_starts to "
         "1600 or more, or add demonstrations"
     )
-    from unified_manip.hyperparams import check_her_warmup
+    from unified_manip.training.hyperparams import check_her_warmup
 
     check_her_warmup("tqc_her", {"learning_starts": 1592}, 8, 200)  # first update at step 1600: fine
     with pytest.raises(HyperparameterError, match="starts training at step 1592, before the first episodes end"):
@@ -366,7 +366,7 @@ def test_rl_zoo3_trains_a_unified_manip_id(tmp_path):
 
 # ---------------------------------------------------------------------- reward terms, n_envs
 def _tiny_request(run_dir: Path, **kwargs):
-    from unified_manip.train import TrainRequest
+    from unified_manip.training.train import TrainRequest
 
     settings = ("learning_starts=50", "batch_size=32", "eval_freq=150", "n_eval_episodes=1", "checkpoint_freq=1000")
     base = dict(env="UnifiedManip/Arm4Reach-v0", action_mode="ee_delta", reward_type="sparse", algo="sac", steps=300,
@@ -378,7 +378,7 @@ def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
     from unified_manip.rewards import make_reward_spec
-    from unified_manip.train import train
+    from unified_manip.training.train import train
 
     run_dir = tmp_path / "run"
     train(_tiny_request(run_dir, reward_type="dense_penalized"), progress=False, log=lambda msg: None)
@@ -403,8 +403,8 @@ def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
 
 
 def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path, monkeypatch):
-    from unified_manip import hyperparams
-    from unified_manip.train import train
+    from unified_manip.training import hyperparams
+    from unified_manip.training.train import train
 
     task = "UnifiedManip/Arm4Reach-v0"
     doc = yaml.safe_load((Path(hyperparams.DEFAULT_DIR) / "sac.yaml").read_text())
@@ -427,7 +427,7 @@ def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path,
 def test_torch_threads_follow_omp_num_threads_where_set(monkeypatch):
     """A user who sets OMP_NUM_THREADS=1 to train beside another run gets one torch thread
     (torch.set_num_threads would otherwise override it, and oversubscribed threads spin)."""
-    from unified_manip.train import _default_threads
+    from unified_manip.training.train import _default_threads
 
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
     assert _default_threads() == 1

@@ -135,11 +135,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.experiments.grid import GridError
-    from unified_manip.hyperparams import HyperparameterError
-    from unified_manip.request import TrainError
+    from unified_manip.training.hyperparams import HyperparameterError
+    from unified_manip.training.request import TrainError
     from unified_manip.experiments.results import ResultsError
-    from unified_manip.runlock import DirectoryInUse
-    from unified_manip.yamlfile import YamlFileError
+    from unified_manip.training.runlock import DirectoryInUse
+    from unified_manip.training.yamlfile import YamlFileError
 
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 from unified_manip.cliargs import env_kwarg, figure_path, positive_int, task_ids
 from unified_manip.config import ACTION_MODES, REWARD_TYPES
-from unified_manip.devices import DEVICES
-from unified_manip.hyperparams import ALGOS
+from unified_manip.training.devices import DEVICES
+from unified_manip.training.hyperparams import ALGOS
 from unified_manip.registry import TASKS
 from unified_manip.vector.factory import VEC_KINDS
 
@@ -83,7 +83,7 @@ def add_commands(sub) -> None:
 
 
 def cmd_train(args: argparse.Namespace) -> int:
-    from unified_manip.train import TrainRequest, train
+    from unified_manip.training.train import TrainRequest, train
 
     req = TrainRequest(
         env=args.env,
@@ -108,7 +108,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
-    from unified_manip.train import evaluate
+    from unified_manip.training.train import evaluate
 
     result = evaluate(
         Path(args.target),
@@ -167,7 +167,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def cmd_report(args: argparse.Namespace) -> int:
     from unified_manip.experiments.report import build_report
-    from unified_manip.yamlfile import load_mapping
+    from unified_manip.training.yamlfile import load_mapping
 
     results = Path(args.results)
     if not results.is_file():

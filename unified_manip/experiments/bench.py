@@ -43,7 +43,7 @@ import yaml
 
 from unified_manip.experiments.grid import Grid, GridError, RunSpec, selected
 from unified_manip.experiments.results import collect_row, write_results
-from unified_manip.runlock import DirectoryLock
+from unified_manip.training.runlock import DirectoryLock
 
 #: How long a run waits for its directory when another process still owns it (an
 #: earlier attempt on a Ray node that has not noticed it was given up on, or a stray
@@ -54,7 +54,7 @@ RUN_LOCK_WAIT_S = 60.0
 # ---------------------------------------------------------------------- one run
 def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = None) -> dict[str, Any]:
     """Train one run (resuming if needed) and return its results row. Runs in a worker."""
-    from unified_manip.train import TrainRequest, train
+    from unified_manip.training.train import TrainRequest, train
 
     run_dir = Path(out_dir) / "runs" / spec.name
     req = TrainRequest(
@@ -178,12 +178,12 @@ def run_grid(
     ``out_dir/runs`` (copied in from another bench directory, say), and ``command.txt``,
     the command that trained them, is left as it is.
 
-    Raises :class:`~unified_manip.runlock.DirectoryInUse` if another bench owns ``out_dir``.
+    Raises :class:`~unified_manip.training.runlock.DirectoryInUse` if another bench owns ``out_dir``.
     """
     if collect and select:
         raise GridError("--only chooses runs to train and --collect trains none; give one or the other")
     if device is not None:
-        from unified_manip.devices import DeviceError, resolve_device
+        from unified_manip.training.devices import DeviceError, resolve_device
 
         try:
             resolve_device(device)

@@ -7,7 +7,7 @@ evaluation. This module reads what the trainer logged, by env step, from
 ``<bench>/runs/<run>/tb``:
 
 - ``rollout/success_rate``: success over the last 100 training episodes (SB3's for
-  off-policy algorithms, :class:`~unified_manip.callbacks.SuccessRate`'s for PPO);
+  off-policy algorithms, :class:`~unified_manip.training.callbacks.SuccessRate`'s for PPO);
 - ``rollout/ep_rew_mean``: SB3's mean return over the last 100 training episodes.
 
 A resumed run has one event file per segment; a later segment's values replace the

@@ -9,10 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from unified_manip.config import EnvConfig, validate_reward_type
-from unified_manip.hyperparams import ALGOS, check_her_warmup, resolve
-from unified_manip.pretrain import check_settings as check_demonstration_settings
+from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve
+from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 from unified_manip.registry import TASKS, get_task
-from unified_manip.yamlfile import YamlFileError, load_mapping
+from unified_manip.training.yamlfile import YamlFileError, load_mapping
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
 OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets", "env_kwargs")

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from unified_manip.rundir import CONFIG, read_status
+from unified_manip.training.rundir import CONFIG, read_status
 
 RESULT_COLUMNS = (
     "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",

@@ -9,10 +9,10 @@ only the buffer fills), then times, ``--repeats`` times each (medians):
 - *before*: what a checkpoint was until issue 12, ``model.save`` plus SB3's
   ``save_replay_buffer`` (the whole preallocated buffer pickled) plus the observation
   statistics;
-- *after*: :func:`unified_manip.checkpoints.write` (trimmed buffer, SHA-256 digests,
+- *after*: :func:`unified_manip.training.checkpoints.write` (trimmed buffer, SHA-256 digests,
   fsync, manifest);
 - loading each buffer back (SB3's ``load_replay_buffer`` against
-  :func:`unified_manip.checkpoints.restore_replay_buffer` into a fresh full-capacity buffer).
+  :func:`unified_manip.training.checkpoints.restore_replay_buffer` into a fresh full-capacity buffer).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ from pathlib import Path
 
 
 def _model(task: str, buffer_size: int, steps: int):
-    from unified_manip.hyperparams import get_algo, resolve
-    from unified_manip.vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+    from unified_manip.training.hyperparams import get_algo, resolve
+    from unified_manip.training.run_envs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
 
     params = resolve("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
     params.pop("device", None)
@@ -53,7 +53,7 @@ def _timed(fn, repeats: int) -> tuple[float, object]:
 
 
 def measure(task: str, buffer_size: int, steps: int, repeats: int) -> dict:
-    from unified_manip import checkpoints
+    from unified_manip.training import checkpoints
 
     model = _model(task, buffer_size, steps)
     work = Path(tempfile.mkdtemp(prefix="ckpt_size_"))

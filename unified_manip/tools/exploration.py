@@ -105,7 +105,7 @@ def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes:
     import gymnasium as gym
 
     import unified_manip  # noqa: F401
-    from unified_manip.demonstrations import policy
+    from unified_manip.training.demonstrations import policy
 
     env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
     act = policy(task_id, action_mode, env)
@@ -133,7 +133,7 @@ def footprint(task_id: str, action_mode: str, episodes: int = 20, seed: int = 0)
     import gymnasium as gym
 
     import unified_manip  # noqa: F401
-    from unified_manip.demonstrations import policy
+    from unified_manip.training.demonstrations import policy
 
     env = gym.make(task_id, action_mode=action_mode, reward_type="sparse")
     act = policy(task_id, action_mode, env)
@@ -154,7 +154,7 @@ def footprint(task_id: str, action_mode: str, episodes: int = 20, seed: int = 0)
 
 
 def _footprint_table(task_id: str, episodes: int) -> None:
-    from unified_manip.demonstrations import demonstrable_modes
+    from unified_manip.training.demonstrations import demonstrable_modes
 
     print(f"{task_id}: the scripted policy's actions in each shared action mode ({episodes} episodes)")
     print("| action mode | span of each dimension's [-1, 1] used | mean change per step |")
@@ -165,7 +165,7 @@ def _footprint_table(task_id: str, episodes: int) -> None:
 
 
 def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
-    from unified_manip.demonstrations import demonstrable_modes
+    from unified_manip.training.demonstrations import demonstrable_modes
 
     modes = demonstrable_modes(task_id)
     print(f"{task_id}: success of the scripted policy with action noise ({episodes} episodes per cell)")

@@ -79,8 +79,8 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.hyperparams import get_algo, resolve
-    from unified_manip.vecenvs import model_kwargs as _model_kwargs, normalized as _normalized
+    from unified_manip.training.hyperparams import get_algo, resolve
+    from unified_manip.training.run_envs import model_kwargs as _model_kwargs, normalized as _normalized
 
     algo = get_algo(lever.algo)
     params = resolve(lever.algo, task_id, lever.overrides + (f"learning_starts={warmup}", "buffer_size=100000"))
@@ -101,7 +101,7 @@ def measure(task_id: str, action_mode: str, levers: tuple[Lever, ...] = LEVERS, 
     import unified_manip  # noqa: F401  (registers the IDs)
 
     torch.set_num_threads(1)
-    from unified_manip.devices import resolve_device
+    from unified_manip.training.devices import resolve_device
 
     device = resolve_device(device)
     models = {lever.name: _model(lever, task_id, action_mode, seed, warmup, device) for lever in levers}

@@ -185,7 +185,7 @@ def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0)
     import torch
     from stable_baselines3 import SAC, HerReplayBuffer
 
-    from unified_manip.hyperparams import RUN_KEYS, resolve
+    from unified_manip.training.hyperparams import RUN_KEYS, resolve
 
     spec = TASKS[task_id]
     if not spec.upstream_id:

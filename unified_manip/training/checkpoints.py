@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from unified_manip import replay_buffers
+from unified_manip.training import replay_buffers
 
 CHECKPOINTS = "checkpoints"
 MANIFEST = "manifest.json"

@@ -38,13 +38,13 @@ def check(bc_steps: int, demonstrations: int) -> None:
 
 def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dict[str, Any]) -> None:
     """Raise a ``ValueError`` unless a run with hyperparameters ``params`` can take the
-    demonstrations (:func:`unified_manip.demonstrations.check`), the cloning it asks for
-    (before training, and the loss during it: :func:`unified_manip.cloning_loss.check`) and
-    the offline steps (:func:`unified_manip.offline.check`):
+    demonstrations (:func:`unified_manip.training.demonstrations.check`), the cloning it asks for
+    (before training, and the loss during it: :func:`unified_manip.training.cloning_loss.check`) and
+    the offline steps (:func:`unified_manip.training.offline.check`):
     what ``train`` and a grid's loading both check before anything starts."""
-    from unified_manip.cloning_loss import check as check_cloning_loss
-    from unified_manip.demonstrations import check as check_demonstrations
-    from unified_manip.offline import check as check_offline
+    from unified_manip.training.cloning_loss import check as check_cloning_loss
+    from unified_manip.training.demonstrations import check as check_demonstrations
+    from unified_manip.training.offline import check as check_offline
 
     episodes = params.get("demonstrations", 0)
     check_demonstrations(task_id, action_mode, off_policy, episodes)
@@ -76,7 +76,7 @@ def seed_statistics(model) -> None:
     """Start a normalising run's observation statistics (its ``VecNormalize``; nothing
     where the run does not normalise) from the demonstrated observations in its replay
     buffer, so what is fitted before the first rollout (:func:`behaviour_clone`,
-    :func:`unified_manip.offline.learn_offline`) sees inputs normalised as its first
+    :func:`unified_manip.training.offline.learn_offline`) sees inputs normalised as its first
     rollouts' will be; the agent's own observations then update them as usual. Unseeded
     they are the identity until the first rollout, and the fitted networks would face
     other inputs from their first update on. Call it once, after the demonstrations are

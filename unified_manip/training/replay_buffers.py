@@ -97,7 +97,7 @@ def restore(buffer, path: Path) -> None:
     if not isinstance(state, dict) or state.get("format") != FORMAT:
         raise ReplayBufferMismatch(f"not a trimmed replay buffer (expected format {FORMAT})")
     cls = f"{type(buffer).__module__}.{type(buffer).__qualname__}"
-    if state["class"] != cls:
+    if _current_name(state["class"]) != cls:
         raise ReplayBufferMismatch(f"saved from a {state['class']}, restoring into a {cls}")
     if (state["buffer_size"], state["n_envs"]) != (buffer.buffer_size, buffer.n_envs):
         raise ReplayBufferMismatch(
@@ -124,6 +124,16 @@ def restore(buffer, path: Path) -> None:
         target[...] = value
     buffer.pos = int(state["pos"])
     buffer.full = bool(state["full"])
+
+
+#: Modules of this project's buffer classes that moved: the old dotted name -> the new.
+RENAMED_MODULES: dict[str, str] = {"unified_manip.crossq": "unified_manip.training.crossq"}
+
+
+def _current_name(class_path: str) -> str:
+    """A saved buffer's class path under today's module names."""
+    module, _, name = class_path.rpartition(".")
+    return f"{RENAMED_MODULES.get(module, module)}.{name}"
 
 
 def _copy_rows(name: str, target: np.ndarray, rows: np.ndarray, keep: int) -> None:

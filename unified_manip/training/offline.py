@@ -9,12 +9,12 @@ one. It is the pre-training phase of DQfD (Hester et al. 2018, "Deep Q-learning 
 Demonstrations"), there on demonstrations alone before any interaction, here for an
 actor-critic.
 
-It is the lever the Q-filtered cloning loss asked for (:mod:`unified_manip.cloning_loss`):
+It is the lever the Q-filtered cloning loss asked for (:mod:`unified_manip.training.cloning_loss`):
 on an untrained critic, which rates the actor's own actions above the demonstrated ones
 almost everywhere, the Q-filter let through 9% of the demonstrated transitions. With
 ``bc_weight`` the cloning loss is in every actor update of these N steps too, and the
 record says what fraction the filter passes at the end of them. ``bc_steps`` (the actor
-alone, :mod:`unified_manip.pretrain`) runs first where both are asked for.
+alone, :mod:`unified_manip.training.pretrain`) runs first where both are asked for.
 """
 
 from __future__ import annotations

@@ -9,8 +9,8 @@ A run directory holds everything about one run::
     eval/evaluations.npz periodic evaluation (EvalCallback): returns and successes
     best/best_model.zip  the best evaluated model
     checkpoints/<step>/  the last two resumable checkpoints (model + replay buffer + obs
-                         statistics + manifest; see :mod:`unified_manip.checkpoints`)
-    .lock                held by the process that owns the run (:mod:`unified_manip.runlock`)
+                         statistics + manifest; see :mod:`unified_manip.training.checkpoints`)
+    .lock                held by the process that owns the run (:mod:`unified_manip.training.runlock`)
     final_model.zip      written when the run finishes
     replay_buffer.pkl    off-policy algorithms, written when the run finishes
     vecnormalize.pkl     observation statistics of runs with ``normalize: true`` (final;
@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
-from unified_manip.runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
+from unified_manip.training.runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
 
 STATUS = "status.json"
 CONFIG = "config.yaml"
@@ -67,7 +67,7 @@ def package_versions() -> dict[str, str]:
 
 
 def config_document(req: Any, n_envs: int, params: dict[str, Any], argv: list[str] | None, device: str) -> dict[str, Any]:
-    """The config.yaml of the run ``req`` (a :class:`~unified_manip.request.TrainRequest`)
+    """The config.yaml of the run ``req`` (a :class:`~unified_manip.training.request.TrainRequest`)
     with ``n_envs`` training envs."""
     return {
         "env": req.env,
@@ -102,7 +102,7 @@ def write_status(run_dir: Path, **status: Any) -> None:
 
 
 def read_config(run_dir: Path) -> dict[str, Any]:
-    from unified_manip.yamlfile import YamlFileError, load_mapping
+    from unified_manip.training.yamlfile import YamlFileError, load_mapping
 
     try:
         return load_mapping(Path(run_dir) / CONFIG, "a run's settings (written by unified-manip train)")
@@ -170,7 +170,7 @@ def write_final(run_dir: Path, model, off_policy: bool) -> None:
         model.save_replay_buffer(tmp)
         os.replace(tmp, run_dir / "replay_buffer.pkl")
     if model.get_vec_normalize_env() is not None:
-        from unified_manip.vecenvs import save_stats
+        from unified_manip.training.run_envs import save_stats
 
         save_stats(model, run_dir / "vecnormalize.pkl")
 
@@ -190,7 +190,7 @@ def containing(target: Path) -> Path:
 
 def model_to_evaluate(target: Path, run_dir: Path) -> Path:
     """``target`` if it is a model .zip, else the run's best, final or newest checkpoint model."""
-    from unified_manip import checkpoints
+    from unified_manip.training import checkpoints
 
     if target.is_file():
         if not target.suffix == ".zip":
@@ -208,7 +208,7 @@ def model_to_evaluate(target: Path, run_dir: Path) -> Path:
 
 def stats_for(model_path: Path, run_dir: Path) -> Path:
     """The VecNormalize statistics saved together with ``model_path``."""
-    from unified_manip import checkpoints
+    from unified_manip.training import checkpoints
 
     model_path = Path(model_path)
     if model_path.parent.parent.name == checkpoints.CHECKPOINTS:

@@ -9,12 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip import rundir
-from unified_manip.devices import DeviceError, resolve_device
-from unified_manip.hyperparams import get_algo
+from unified_manip.training import rundir
+from unified_manip.training.devices import DeviceError, resolve_device
+from unified_manip.training.hyperparams import get_algo
 from unified_manip.registry import get_task
-from unified_manip.request import TrainError
-from unified_manip.rundir import RunDirectoryError
+from unified_manip.training.request import TrainError
+from unified_manip.training.rundir import RunDirectoryError
 
 
 @dataclass(frozen=True)
@@ -79,16 +79,16 @@ def evaluate(
         model_path = rundir.model_to_evaluate(Path(target), run_dir)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
-    cls = get_algo(config["algo"]).cls()
+    algo = get_algo(config["algo"])
     render = {"render_mode": "rgb_array", "render_width": 320, "render_height": 320} if video else {}
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.vecenvs import normalized
+    from unified_manip.training.run_envs import normalized
 
     env = gym.make(config["env"], **env_kwargs, **render)
     # HER models need an env to load; give them one over the same instance.
     venv = DummyVecEnv([lambda: env])
-    model = cls.load(model_path, env=venv, device=device)
+    model = algo.load(model_path, config["hyperparameters"].get("policy"), env=venv, device=device)
     normalizer = None
     if config["hyperparameters"].get("normalize"):
         normalizer = normalized(venv, config["hyperparameters"], _stats_for(model_path, run_dir), training=False)

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from unified_manip.devices import DEVICES
-from unified_manip.hyperparams import ALGOS
+from unified_manip.training.devices import DEVICES
+from unified_manip.training.hyperparams import ALGOS
 from unified_manip.registry import get_task
 
 

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.hyperparams import RUN_KEYS, get_algo
-from unified_manip.request import TrainError, TrainRequest
+from unified_manip.training.hyperparams import RUN_KEYS, get_algo
+from unified_manip.training.request import TrainError, TrainRequest
 
 
 def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,

@@ -9,7 +9,7 @@ own (the Q-filter)::
 
 with π(s) the actor's deterministic action (a stochastic actor's mean action, squashed).
 The actor then imitates the scripted policy where the scripted policy is better and is
-free to improve on it elsewhere; :mod:`unified_manip.pretrain` is the other half of their
+free to improve on it elsewhere; :mod:`unified_manip.training.pretrain` is the other half of their
 method, cloning before training. With ``bc_q_filter: false`` every demonstrated
 transition counts (a fixed cloning regulariser, as in TD3+BC, Fujimoto and Gu 2021): for
 a critic that rates the actor's own actions above the demonstrated ones almost everywhere,

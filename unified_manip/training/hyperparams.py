@@ -46,9 +46,9 @@ def _default_dir() -> Path:
     editable install or a source tree)."""
     if os.environ.get("UNIFIED_MANIP_BASELINES"):
         return Path(os.environ["UNIFIED_MANIP_BASELINES"])
-    here = Path(__file__).resolve().parent
-    installed = here / "baselines"
-    return installed if installed.is_dir() else here.parent / "baselines"
+    package = Path(__file__).resolve().parents[1]  # unified_manip/
+    installed = package / "baselines"
+    return installed if installed.is_dir() else package.parent / "baselines"
 
 
 #: Where the YAML files live (see :func:`_default_dir`).
@@ -78,6 +78,25 @@ class Algo:
         module, name = self.buffer.split(":")
         return getattr(importlib.import_module(module), name)
 
+    def load(self, path, policy: Any = None, **kwargs: Any):
+        """``cls().load(path, **kwargs)``, with this project's own classes handed over by
+        name instead of unpickled from the file: a model saved before they moved (e.g.
+        ``unified_manip.crossq`` to ``unified_manip.training.crossq``) still loads.
+
+        Args:
+            path: The model zip.
+            policy: The run's ``policy`` hyperparameter (an alias such as
+                ``"MultiInputPolicy"``, or a class); None: unpickled from the file.
+            **kwargs: ``env``, ``device``, ... as for SB3's ``load``.
+        """
+        cls = self.cls()
+        custom: dict[str, Any] = {}
+        if self.module.startswith("unified_manip.") and policy is not None:
+            custom["policy_class"] = cls.policy_aliases[policy] if isinstance(policy, str) else policy
+        if self.her and self.buffer.startswith("unified_manip."):
+            custom["replay_buffer_class"] = self.buffer_cls()
+        return cls.load(path, custom_objects=custom or None, **kwargs)
+
 
 ALGOS: dict[str, Algo] = {
     a.name: a
@@ -87,7 +106,7 @@ ALGOS: dict[str, Algo] = {
         Algo("td3", "stable_baselines3", "TD3"),
         Algo("sac_her", "stable_baselines3", "SAC", her=True),
         Algo("tqc_her", "sb3_contrib", "TQC", her=True),
-        Algo("crossq_her", "unified_manip.crossq", "CrossQ", her=True, buffer="unified_manip.crossq:CatDictHerReplayBuffer"),
+        Algo("crossq_her", "unified_manip.training.crossq", "CrossQ", her=True, buffer="unified_manip.training.crossq:CatDictHerReplayBuffer"),
     )
 }
 
@@ -153,7 +172,7 @@ def load_file(algo: Algo, directory: Path | None = None) -> dict[str, dict[str, 
     path = Path(directory or DEFAULT_DIR) / f"{algo.name}.yaml"
     if not path.is_file():
         raise HyperparameterError(f"hyperparameter file {path} not found")
-    from unified_manip.yamlfile import YamlFileError, key_line, load_mapping
+    from unified_manip.training.yamlfile import YamlFileError, key_line, load_mapping
 
     expected = "a mapping of task IDs with a 'default' entry"
     try:

@@ -4,9 +4,9 @@ Running the same command on an unfinished run directory resumes from its newest
 checkpoint that loads (step count, model and replay buffer); a finished one is left
 alone, and ``--restart`` starts either over from step 0. One process at a time owns a
 run directory: a second is refused. What a run directory holds is
-:mod:`unified_manip.rundir`'s; the request is :mod:`unified_manip.request`'s, the envs
-:mod:`unified_manip.vecenvs`', the callbacks :mod:`unified_manip.callbacks`' and
-``unified-manip eval`` :mod:`unified_manip.evaluation`'s (all re-exported here).
+:mod:`unified_manip.training.rundir`'s; the request is :mod:`unified_manip.training.request`'s, the envs
+:mod:`unified_manip.training.run_envs`', the callbacks :mod:`unified_manip.training.callbacks`' and
+``unified-manip eval`` :mod:`unified_manip.training.evaluation`'s (all re-exported here).
 """
 
 from __future__ import annotations
@@ -20,14 +20,15 @@ from typing import Any
 
 import yaml
 
-from unified_manip import checkpoints, rundir
-from unified_manip.devices import DeviceError, resolve_device
-from unified_manip.evaluation import EvalResult, evaluate, write_video
-from unified_manip.hyperparams import check_her_warmup, get_algo, resolve
+from unified_manip.training import checkpoints
+from unified_manip.training import rundir
+from unified_manip.training.devices import DeviceError, resolve_device
+from unified_manip.training.evaluation import EvalResult, evaluate, write_video
+from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve
 from unified_manip.registry import get_task
-from unified_manip.request import TrainError, TrainRequest
-from unified_manip.rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
-from unified_manip.vecenvs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+from unified_manip.training.request import TrainError, TrainRequest
+from unified_manip.training.rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
+from unified_manip.training.run_envs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
 
 __all__ = [
     "CONFIG", "STATUS", "EvalResult", "RunDirectoryError", "TrainError", "TrainRequest", "evaluate", "make_vec_env",
@@ -66,7 +67,7 @@ def train(
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
     from unified_manip.vector.factory import resolve_vec
 
-    from unified_manip.pretrain import check_settings as check_demonstration_settings
+    from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
@@ -89,8 +90,8 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
 
     import torch
 
-    from unified_manip.callbacks import StopOnSignal, make_callbacks
-    from unified_manip.vecenvs import eval_env as make_eval_env
+    from unified_manip.training.callbacks import StopOnSignal, make_callbacks
+    from unified_manip.training.run_envs import eval_env as make_eval_env
 
     algo = get_algo(req.algo)
     rundir.check_same_run(run_dir, config, rundir.COMPARED)
@@ -122,7 +123,7 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         stats = ckpt.path(checkpoints.VECNORMALIZE)
         if params.get("normalize") and stats is None:
             raise checkpoints.CheckpointError(f"{ckpt.directory}: no observation statistics (vecnormalize) for a normalize run")
-        model = cls.load(ckpt.path(checkpoints.MODEL), env=_normalized(raw_env, params, stats, training=True), device=device)
+        model = algo.load(ckpt.path(checkpoints.MODEL), params.get("policy"), env=_normalized(raw_env, params, stats, training=True), device=device)
         if model.num_timesteps != ckpt.step:
             raise checkpoints.CheckpointError(f"{ckpt.path(checkpoints.MODEL)}: at step {model.num_timesteps}, the manifest says {ckpt.step}")
         if algo.off_policy:
@@ -213,13 +214,13 @@ def _default_threads() -> int:
 
 def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], log) -> None:
     """Fill the new model's replay buffer with the scripted policy's ``demonstrations``
-    episodes, played in envs of their own (see :mod:`unified_manip.demonstrations`), then
-    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.pretrain`),
+    episodes, played in envs of their own (see :mod:`unified_manip.training.demonstrations`), then
+    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.training.pretrain`),
     after seeding a normalising run's statistics from them where it clones or learns offline.
     ``demonstrations.json`` records both, and the weight of the cloning loss kept during
     training (``bc_weight``, :func:`_keep_cloning`); results.csv carries it."""
-    from unified_manip.demonstrations import SEED_OFFSET, prefill
-    from unified_manip.pretrain import behaviour_clone, seed_statistics
+    from unified_manip.training.demonstrations import SEED_OFFSET, prefill
+    from unified_manip.training.pretrain import behaviour_clone, seed_statistics
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
     venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
@@ -246,8 +247,8 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
 
 def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) -> None:
     """Take ``steps`` of the algorithm's own updates on the demonstrations alone
-    (:mod:`unified_manip.offline`) and add them to ``demonstrations.json``."""
-    from unified_manip.offline import learn_offline
+    (:mod:`unified_manip.training.offline`) and add them to ``demonstrations.json``."""
+    from unified_manip.training.offline import learn_offline
 
     path = req.directory / "demonstrations.json"
     done = json.loads(path.read_text())
@@ -261,8 +262,8 @@ def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) ->
 def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampled: bool) -> None:
     """Add the cloning loss (Q-filtered unless ``q_filter`` is false; on the sampled action
     where ``sampled``) on the recorded demonstrations to every actor update from here on
-    (:mod:`unified_manip.cloning_loss`; a resumed run adds it again)."""
-    from unified_manip.cloning_loss import CloningLossError, attach
+    (:mod:`unified_manip.training.cloning_loss`; a resumed run adds it again)."""
+    from unified_manip.training.cloning_loss import CloningLossError, attach
 
     done = json.loads((req.directory / "demonstrations.json").read_text())
     try:

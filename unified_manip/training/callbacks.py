@@ -12,8 +12,8 @@ from typing import Any, Callable, Mapping
 import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
 
-from unified_manip import checkpoints
-from unified_manip.rundir import write_status
+from unified_manip.training import checkpoints
+from unified_manip.training.rundir import write_status
 
 
 class SuccessRate(BaseCallback):
@@ -137,7 +137,7 @@ class SaveBestStats(BaseCallback):
 
     def _on_step(self) -> bool:
         if self.model.get_vec_normalize_env() is not None:
-            from unified_manip.vecenvs import save_stats
+            from unified_manip.training.run_envs import save_stats
 
             (self.run_dir / "best").mkdir(parents=True, exist_ok=True)
             save_stats(self.model, self.run_dir / "best" / "vecnormalize.pkl")
