@@ -10,7 +10,7 @@ import signal
 import sys
 from pathlib import Path
 
-from unified_manip.cliargs import env_kwarg, figure_path, positive_int, task_ids
+from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
 from unified_manip.config import ACTION_MODES, REWARD_TYPES
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS

@@ -4,14 +4,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 
 from rich.console import Console
 from rich.table import Table
 
-from unified_manip.cli_runs import add_commands, cmd_bench, cmd_eval, cmd_report, cmd_train  # noqa: F401
-from unified_manip.cliargs import Parser, positive_int, task_ids
+from unified_manip.cli.runs import add_commands
+from unified_manip.cli.args import Parser, positive_int, task_ids
 from unified_manip.config import REWARD_TYPES
 from unified_manip.registry import TASKS
 
@@ -89,7 +88,7 @@ def cmd_speed(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from unified_manip import demo
+    from unified_manip.cli import demo
 
     successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env,
                          progress=not args.no_progress)
@@ -148,6 +147,3 @@ def main(argv: list[str] | None = None) -> int:
     except (TrainError, HyperparameterError, GridError, ResultsError, YamlFileError, DirectoryInUse, FileNotFoundError) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
