@@ -1,16 +1,16 @@
 """Task definitions, one package per family; importing this registers every task.
 
-This folder is installed as ``unified_manip.tasks``. Each family package
+This folder is installed as ``unified_manip.envs.tasks``. Each family package
 (``arm4``, ``fetch``, ``shadow_hand``, ``robosuite_tasks``) defines ``SPECS``, its
-:class:`~unified_manip.registry.TaskSpec` tuple, without importing its simulator: a
+:class:`~unified_manip.envs.registry.TaskSpec` tuple, without importing its simulator: a
 spec names its backend lazily, so the simulator is imported by the first ``gym.make``
 of one of the family's IDs. To add a family, add a package with a
-:class:`unified_manip.backend.Backend` and its ``SPECS``, and list it below.
+:class:`unified_manip.envs.backend.Backend` and its ``SPECS``, and list it below.
 """
 
-from unified_manip.registry import register_task
+from unified_manip.envs.registry import register_task
 
-from unified_manip.tasks import arm4, fetch, robosuite_tasks, shadow_hand
+from unified_manip.envs.tasks import arm4, fetch, robosuite_tasks, shadow_hand
 
 #: The families, in registration order (the order ``unified-manip list`` shows).
 FAMILIES = (arm4, fetch, shadow_hand, robosuite_tasks)

@@ -24,11 +24,11 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.config import EnvConfig
-from unified_manip.lazy import resolve
-from unified_manip.physics import bad_state_warnings
-from unified_manip.rendering import Renderer, SceneOptions
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.lazy import resolve
+from unified_manip.envs.physics import bad_state_warnings
+from unified_manip.envs.rendering import Renderer, SceneOptions
 
 
 def upstream_reset(env: Any, np_random: np.random.Generator) -> None:

@@ -21,7 +21,7 @@ from unified_manip.experiments.bench import run_grid
 from unified_manip.experiments.report import build_report
 from unified_manip.experiments.figures import final_bars
 from unified_manip.experiments.curves import read_scalars
-from unified_manip.rewards import RewardSpec, Term
+from unified_manip.envs.rewards import RewardSpec, Term
 from unified_manip.experiments.sanity import dense_reward_check
 
 ROOT = Path(__file__).resolve().parents[1]

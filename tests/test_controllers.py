@@ -11,8 +11,8 @@ import pytest
 from conftest import make
 
 import unified_manip
-from unified_manip.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
-from unified_manip.controllers.docs import README_END, README_START, readme_table
+from unified_manip.envs.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
+from unified_manip.envs.controllers.docs import README_END, README_START, readme_table
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -182,4 +182,4 @@ def test_mode_table_shows_every_tasks_config():
 def test_readme_mode_table_is_the_generated_one():
     text = (ROOT / "README.md").read_text()
     start, end = text.index(README_START), text.index(README_END) + len(README_END)
-    assert text[start:end] == readme_table(), "run: python -m unified_manip.controllers.docs"
+    assert text[start:end] == readme_table(), "run: python -m unified_manip.envs.controllers.docs"

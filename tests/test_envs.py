@@ -18,7 +18,7 @@ from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import unified_manip
-from unified_manip.rewards import INFO_KEYS
+from unified_manip.envs.rewards import INFO_KEYS
 
 
 def _assert_same(a, b):
@@ -320,8 +320,8 @@ def test_random_steps_stay_stable(task_id, mode):
 def test_arm4_pick_and_place_v1_puts_half_of_its_goals_on_the_table():
     """v1 changes only the goal distribution (Fetch's): about half of the goals lie at the
     cube's resting height, the rest in v0's band in the air, where all of v0's are."""
-    from unified_manip.tasks.arm4.goals import PLACE_GOAL_HIGH, PLACE_GOAL_LOW
-    from unified_manip.tasks.arm4.scene import CUBE_REST_Z
+    from unified_manip.envs.tasks.arm4.goals import PLACE_GOAL_HIGH, PLACE_GOAL_LOW
+    from unified_manip.envs.tasks.arm4.scene import CUBE_REST_Z
 
     heights = {}
     for version in (0, 1):

@@ -31,7 +31,7 @@ import unified_manip
 from unified_manip.training import checkpoints
 from unified_manip.experiments.grid import load_grid
 from unified_manip.experiments.results import read_results
-from unified_manip.registry import TASKS, register_task
+from unified_manip.envs.registry import TASKS, register_task
 from unified_manip.training.runlock import read_owner
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -9,7 +9,7 @@ import pytest
 from conftest import make
 
 import unified_manip
-from unified_manip.tasks.fetch import ARM_JOINTS, FROZEN_JOINTS
+from unified_manip.envs.tasks.fetch import ARM_JOINTS, FROZEN_JOINTS
 
 gym.register_envs(gymnasium_robotics)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import unified_manip  # noqa: F401  (registers the IDs)
-from unified_manip.rendering import Renderer, SceneOptions
+from unified_manip.envs.rendering import Renderer, SceneOptions
 
 
 def _collision_green(frame: np.ndarray) -> int:

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from conftest import make, random_actions
 
-from unified_manip.config import EnvConfig
-from unified_manip.rewards import RewardConfig, RewardScales, make_reward_spec
-from unified_manip.wrappers import RawRewardTerms
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.rewards import RewardConfig, RewardScales, make_reward_spec
+from unified_manip.envs.wrappers import RawRewardTerms
 
 TASK = "UnifiedManip/Arm4PickAndPlace-v0"
 

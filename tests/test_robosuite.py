@@ -16,7 +16,7 @@ import pytest
 import robosuite
 
 import unified_manip
-from unified_manip.tasks import robosuite_tasks as rt
+from unified_manip.envs.tasks import robosuite_tasks as rt
 
 NAMES = ("Lift", "Stack", "PickPlaceCan", "NutAssemblyRound", "Door")
 IDS = [f"UnifiedManip/{n}-v0" for n in NAMES]

@@ -377,7 +377,7 @@ def _tiny_request(run_dir: Path, **kwargs):
 def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
-    from unified_manip.rewards import make_reward_spec
+    from unified_manip.envs.rewards import make_reward_spec
     from unified_manip.training.train import train
 
     run_dir = tmp_path / "run"

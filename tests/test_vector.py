@@ -19,9 +19,9 @@ import pytest
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
 
 import unified_manip
-from unified_manip.vector import VectorFallbackWarning, native_support
-from unified_manip.vector.env import NativeVectorEnv
-from unified_manip.vector.pool import PhysicsPool
+from unified_manip.envs.vector import VectorFallbackWarning, native_support
+from unified_manip.envs.vector.env import NativeVectorEnv
+from unified_manip.envs.vector.pool import PhysicsPool
 
 #: Every native ID x mode; the arm over 2 episodes of 3 envs, Fetch (its physics is 20x
 #: dearer) over 1 episode of 2 envs on one task per kind: all modes on PickAndPlace.

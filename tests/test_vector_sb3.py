@@ -16,8 +16,8 @@ from stable_baselines3 import PPO, SAC, HerReplayBuffer
 from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor, VecNormalize
 
 import unified_manip
-from unified_manip.vector import make_vector_env
-from unified_manip.vector.sb3 import NativeSB3VecEnv
+from unified_manip.envs.vector import make_vector_env
+from unified_manip.envs.vector.sb3 import NativeSB3VecEnv
 
 
 def native(task_id: str, n: int, **kwargs) -> NativeSB3VecEnv:
@@ -119,7 +119,7 @@ def test_ppo_smoke():
 
 
 def test_train_picks_and_runs_the_native_vector_env(tmp_path):
-    from unified_manip.vector.factory import resolve_vec
+    from unified_manip.envs.vector.factory import resolve_vec
 
     assert resolve_vec("auto", "UnifiedManip/Arm4Reach-v0", 2) == "native"  # --n-envs N alone
     assert resolve_vec("auto", "UnifiedManip/Arm4Reach-v0", 1) == "dummy"

@@ -18,19 +18,19 @@ if "MUJOCO_GL" not in _os.environ and not (_os.environ.get("DISPLAY") or _os.env
 
 from importlib.metadata import PackageNotFoundError, version  # noqa: E402
 
-from unified_manip._quiet import silence_import_notices  # noqa: E402
+from unified_manip.envs._quiet import silence_import_notices  # noqa: E402
 
 silence_import_notices()
 
-from unified_manip.config import ACTION_MODES, REWARD_TYPES, EnvConfig
-from unified_manip.registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task
+from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES, EnvConfig
+from unified_manip.envs.registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task
 
 try:
     __version__ = version("unified_manip")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0+unknown"
 
-from unified_manip import tasks as _tasks  # noqa: E402,F401  (registers every task)
+from unified_manip.envs import tasks as _tasks  # noqa: E402,F401  (registers every task)
 
 __all__ = [
     "ACTION_MODES",

@@ -14,13 +14,13 @@ Modules: :mod:`.scene` (geometry, observation layout), :mod:`.goals` (reset
 distributions), :mod:`.controllers` (the action modes), :mod:`.backend` (the MuJoCo backend; imports MuJoCo),
 :mod:`.policies` (scripted policies), :mod:`.docs` (task documentation) and
 :mod:`.specs` (the task specs). The names these modules define can also be imported
-from this package (``from unified_manip.tasks.arm4 import Arm4Backend``), as when the
+from this package (``from unified_manip.envs.tasks.arm4 import Arm4Backend``), as when the
 family was one module; they are imported on first access.
 """
 
-from unified_manip.lazy import reexport
+from unified_manip.envs.lazy import reexport
 
-from unified_manip.tasks.arm4.specs import SPECS
+from unified_manip.envs.tasks.arm4.specs import SPECS
 
 __all__ = ["SPECS"]
 

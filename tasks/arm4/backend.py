@@ -9,18 +9,18 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.config import EnvConfig
-from unified_manip.controllers import ControllerConfig
-from unified_manip.controllers.ik import MinkIK
-from unified_manip.controllers.rig import MujocoRig
-from unified_manip.physics import bad_state_warnings
-from unified_manip.rendering import Renderer, SceneOptions
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.controllers.ik import MinkIK
+from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.physics import bad_state_warnings
+from unified_manip.envs.rendering import Renderer, SceneOptions
 
-from unified_manip.tasks.contacts import touches_both
-from unified_manip.tasks.arm4.controllers import CONTROLLERS
-from unified_manip.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
-from unified_manip.tasks.arm4.scene import (
+from unified_manip.envs.tasks.contacts import touches_both
+from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS
+from unified_manip.envs.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
+from unified_manip.envs.tasks.arm4.scene import (
     ASSET,
     CUBE_REST_Z,
     FINGER_OPEN,

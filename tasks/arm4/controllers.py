@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from unified_manip import controllers as ctl
+from unified_manip.envs import controllers as ctl
 
 #: Grip-site step of the end-effector modes, m. Half of Fetch's and robosuite's 5 cm
 #: because the arm is controlled twice as often (50 Hz): both move at most 1.25 m/s.

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from unified_manip.controllers.docs import modes_section
+from unified_manip.envs.controllers.docs import modes_section
 
-from unified_manip.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
+from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
 
 _MODES_HEAD = """Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
 +1 open; native is joint_delta, the design document's scheme):"""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from unified_manip.tasks.arm4.scene import CUBE_REST_Z
+from unified_manip.envs.tasks.arm4.scene import CUBE_REST_Z
 
 OBJECT_XY_LOW, OBJECT_XY_HIGH = np.array([0.40, -0.10]), np.array([0.60, 0.10])
 REACH_GOAL_LOW, REACH_GOAL_HIGH = np.array([0.30, -0.25, 0.46]), np.array([0.60, 0.25, 0.65])

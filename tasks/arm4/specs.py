@@ -1,18 +1,18 @@
-"""The 4-DOF arm's task specs (registered by ``unified_manip.tasks``)."""
+"""The 4-DOF arm's task specs (registered by ``unified_manip.envs.tasks``)."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
-from unified_manip.lazy import lazy
-from unified_manip.registry import TaskSpec
+from unified_manip.envs.lazy import lazy
+from unified_manip.envs.registry import TaskSpec
 
-from unified_manip.tasks.scripted import EEDeltaPolicy
-from unified_manip.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
-from unified_manip.tasks.arm4.docs import PICK_AND_PLACE_DOC, PICK_AND_PLACE_V1_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
-from unified_manip.tasks.arm4.policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
+from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
+from unified_manip.envs.tasks.arm4.docs import PICK_AND_PLACE_DOC, PICK_AND_PLACE_V1_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
+from unified_manip.envs.tasks.arm4.policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
 
-_BACKEND = "unified_manip.tasks.arm4.backend:Arm4Backend"
+_BACKEND = "unified_manip.envs.tasks.arm4.backend:Arm4Backend"
 
 V0: tuple[TaskSpec, ...] = tuple(
     TaskSpec(

@@ -11,7 +11,7 @@ sampling and observation code), so every task is exactly upstream's.
   ``mujoco.MjSpec``, :mod:`.model`), because the stock arm has no actuators: it follows
   a mocap weld. The copy **removes the weld**, adds force-limited ``general``
   position-servo actuators on the 7 arm joints (the
-  :class:`~unified_manip.controllers.rig.MujocoRig` reads their gains), turns on ``gravcomp`` for
+  :class:`~unified_manip.envs.controllers.rig.MujocoRig` reads their gains), turns on ``gravcomp`` for
   every body from the shoulder down (so zero torque holds the arm still), adds
   upstream's PickAndPlace finger actuators to the tasks that lack them, gives the three
   unlimited roll joints a +-pi command range, and **freezes the base slides and the
@@ -27,9 +27,9 @@ Modules: :mod:`.scene` (names, gains, observation layout), :mod:`.controllers`
 when the family was one module; they are imported on first access.
 """
 
-from unified_manip.lazy import reexport
+from unified_manip.envs.lazy import reexport
 
-from unified_manip.tasks.fetch.specs import SPECS
+from unified_manip.envs.tasks.fetch.specs import SPECS
 
 __all__ = ["SPECS"]
 

@@ -11,15 +11,15 @@ import numpy as np
 from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
 from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
-from unified_manip.config import EnvConfig
-from unified_manip.rendering import SceneOptions
-from unified_manip.controllers.rig import MujocoRig
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.rendering import SceneOptions
+from unified_manip.envs.controllers.rig import MujocoRig
 
-from unified_manip.tasks.contacts import touches_both
-from unified_manip.tasks.upstream import UpstreamBackend
-from unified_manip.tasks.fetch.controllers import CONTROLLERS
-from unified_manip.tasks.fetch.model import actuated_model
-from unified_manip.tasks.fetch.scene import (
+from unified_manip.envs.tasks.contacts import touches_both
+from unified_manip.envs.tasks.upstream import UpstreamBackend
+from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.envs.tasks.fetch.model import actuated_model
+from unified_manip.envs.tasks.fetch.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
     FINGER_GEOMS,

@@ -3,7 +3,7 @@ on the actuated copy of the model (see the package docs)."""
 
 from __future__ import annotations
 
-from unified_manip import controllers as ctl
+from unified_manip.envs import controllers as ctl
 
 CONTROLLERS = {
     "joint_torque": ctl.JointTorque(),

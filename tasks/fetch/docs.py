@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from unified_manip.controllers.docs import modes_section
+from unified_manip.envs.controllers.docs import modes_section
 
-from unified_manip.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 
 _MODES = f"""Action modes (action in [-1, 1]; the last entry commands the fingers, -1 closed,
 +1 open, except on tasks whose gripper upstream blocks, where the fingers stay closed;

@@ -7,7 +7,7 @@ import math
 import mujoco
 import numpy as np
 
-from unified_manip.tasks.fetch.scene import (
+from unified_manip.envs.tasks.fetch.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
     ARM_KP,

@@ -1,16 +1,16 @@
-"""The Fetch task specs (registered by ``unified_manip.tasks``)."""
+"""The Fetch task specs (registered by ``unified_manip.envs.tasks``)."""
 
 from __future__ import annotations
 
-from unified_manip.lazy import lazy
-from unified_manip.registry import TaskSpec
+from unified_manip.envs.lazy import lazy
+from unified_manip.envs.registry import TaskSpec
 
-from unified_manip.tasks.scripted import EEDeltaPolicy
-from unified_manip.tasks.fetch.controllers import CONTROLLERS
-from unified_manip.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
-from unified_manip.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
+from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.envs.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
+from unified_manip.envs.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
 
-_BACKEND = "unified_manip.tasks.fetch.backend:FetchBackend"
+_BACKEND = "unified_manip.envs.tasks.fetch.backend:FetchBackend"
 _UPSTREAM = "gymnasium_robotics.envs.fetch.{module}:MujocoFetch{name}Env"
 
 #: Random steps per mode in the stability test: Fetch steps at ~300-400/s.

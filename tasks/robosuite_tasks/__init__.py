@@ -20,7 +20,7 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
   the actions played since; unpickling rebuilds the env and replays them, which is
   exact because the rollouts are deterministic (and costs one step per step replayed).
 * **Rendering** (``render_mode="rgb_array"``, and the ``image`` observation with
-  ``camera_obs=True``) uses the shared :class:`unified_manip.rendering.Renderer` on
+  ``camera_obs=True``) uses the shared :class:`unified_manip.envs.rendering.Renderer` on
   robosuite's model and data (``MUJOCO_GL=egl`` headless), from robosuite's
   ``frontview`` and ``agentview`` cameras, with the collision geoms (group 0) hidden
   as robosuite's own renderer does.
@@ -29,13 +29,13 @@ Modules: :mod:`.options` (the ``robot`` and camera options), :mod:`.suite`
 (``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` (how each
 env becomes a goal task), :mod:`.backend`, :mod:`.policies`, :mod:`.docs`,
 :mod:`.specs`. Their names can also be imported from this package
-(``from unified_manip.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
+(``from unified_manip.envs.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
 the family was one module; they are imported on first access.
 """
 
-from unified_manip.lazy import reexport
+from unified_manip.envs.lazy import reexport
 
-from unified_manip.tasks.robosuite_tasks.specs import SPECS
+from unified_manip.envs.tasks.robosuite_tasks.specs import SPECS
 
 __all__ = ["SPECS"]
 

@@ -9,17 +9,17 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.config import EnvConfig
-from unified_manip.controllers.ik import IKJoints
-from unified_manip.physics import bad_state_warnings
-from unified_manip.rendering import Renderer, SceneOptions
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers.ik import IKJoints
+from unified_manip.envs.physics import bad_state_warnings
+from unified_manip.envs.rendering import Renderer, SceneOptions
 
-from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
-from unified_manip.tasks.robosuite_tasks.goals import TASK_DEFS
-from unified_manip.tasks.robosuite_tasks.options import validate_options
-from unified_manip.tasks.robosuite_tasks.rig import SuiteRig
-from unified_manip.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
+from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
+from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
+from unified_manip.envs.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
 
 #: How robosuite scenes are drawn: robosuite's ``frontview`` camera for frames and its
 #: ``agentview`` camera for the ``image`` observation, without the collision geoms

@@ -5,7 +5,7 @@ kp 150, critically damped, mass-matrix and gravity compensated) or JOINT_TORQUE
 
 from __future__ import annotations
 
-from unified_manip import controllers as ctl
+from unified_manip.envs import controllers as ctl
 
 #: ee modes: grip-site step as OSC_POSE's 5 cm; the held gripper orientation weighs 0.3
 #: against position, and yields (0.01) where that leaves more than 5 mm of error, so

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from unified_manip.controllers.docs import modes_section
+from unified_manip.envs.controllers.docs import modes_section
 
-from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 
 _OPTIONS = """Options: ``robot`` (default "Panda"; also "Sawyer", "UR5e", "IIWA", "Kinova3",
 "Jaco"), ``camera_obs`` (default False: adds an ``image`` key, agentview RGB uint8 of

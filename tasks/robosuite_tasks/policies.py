@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from unified_manip.tasks.scripted import toward
+from unified_manip.envs.tasks.scripted import toward
 
 #: Panda proprio layout: eef position (m, world).
 EEF = slice(35, 38)

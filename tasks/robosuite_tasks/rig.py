@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from unified_manip.controllers.ik import IKJoints
+from unified_manip.envs.controllers.ik import IKJoints
 
 
 class SuiteRig:

@@ -1,16 +1,16 @@
-"""The robosuite task specs (registered by ``unified_manip.tasks``)."""
+"""The robosuite task specs (registered by ``unified_manip.envs.tasks``)."""
 
 from __future__ import annotations
 
-from unified_manip.lazy import lazy
-from unified_manip.registry import TaskSpec
+from unified_manip.envs.lazy import lazy
+from unified_manip.envs.registry import TaskSpec
 
-from unified_manip.tasks.scripted import EEDeltaPolicy
-from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
-from unified_manip.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
-from unified_manip.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
+from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 
-_PACKAGE = "unified_manip.tasks.robosuite_tasks"
+_PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 
 #: Random steps per mode in the stability test, and episodes of the scripted-policy
 #: test: robosuite steps at ~100-200/s here.

@@ -8,7 +8,7 @@ from typing import Any
 import robosuite
 from robosuite.controllers import load_composite_controller_config, load_part_controller_config
 
-from unified_manip.tasks.robosuite_tasks.controllers import CONTROLLERS
+from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 
 #: Keyword arguments of ``robosuite.make`` used for every task (besides the env name,
 #: robot and controller config): low-dim observations only, no robosuite renderer,

@@ -20,9 +20,9 @@ gymnasium-robotics), :mod:`.docs`, :mod:`.specs`. Their names can also be import
 this package, as when the family was one module.
 """
 
-from unified_manip.lazy import reexport
+from unified_manip.envs.lazy import reexport
 
-from unified_manip.tasks.shadow_hand.specs import SPECS
+from unified_manip.envs.tasks.shadow_hand.specs import SPECS
 
 __all__ = ["SPECS"]
 

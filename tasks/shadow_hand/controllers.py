@@ -3,7 +3,7 @@ effector and no torque interface: its 20 actuators are position servos."""
 
 from __future__ import annotations
 
-from unified_manip import controllers as ctl
+from unified_manip.envs import controllers as ctl
 
 CONTROLLERS = {
     # Upstream's relative_control: a step of up to half of each actuator's range, where

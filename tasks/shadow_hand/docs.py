@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from unified_manip.controllers.docs import modes_section
+from unified_manip.envs.controllers.docs import modes_section
 
-from unified_manip.tasks.shadow_hand.controllers import CONTROLLERS
+from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 
 _MODES = f"""Action modes (20 entries in [-1, 1], one per actuator, upstream's order: WRJ1, WRJ0,
 FFJ3-1, MFJ3-1, RFJ3-1, LFJ4-1, THJ4-0; q is the actuated joint's angle, J1 + J0 for

@@ -1,15 +1,15 @@
-"""The Shadow Hand task specs (registered by ``unified_manip.tasks``)."""
+"""The Shadow Hand task specs (registered by ``unified_manip.envs.tasks``)."""
 
 from __future__ import annotations
 
-from unified_manip.lazy import lazy
-from unified_manip.registry import TaskSpec, euclidean
+from unified_manip.envs.lazy import lazy
+from unified_manip.envs.registry import TaskSpec, euclidean
 
-from unified_manip.tasks.shadow_hand.controllers import CONTROLLERS
-from unified_manip.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
-from unified_manip.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
+from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
+from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
+from unified_manip.envs.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
 
-_BACKEND = "unified_manip.tasks.shadow_hand.backend:HandBackend"
+_BACKEND = "unified_manip.envs.tasks.shadow_hand.backend:HandBackend"
 _UPSTREAM = "gymnasium_robotics.envs.shadow_dexterous_hand"
 
 #: Random steps per mode in the stability test (the hand steps at a few hundred/s).

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from unified_manip.registry import get_task
+from unified_manip.envs.registry import get_task
 
 
 class Parser(argparse.ArgumentParser):

@@ -11,7 +11,7 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-from unified_manip.registry import TASKS
+from unified_manip.envs.registry import TASKS
 
 
 def rollout_frames(task_id: str, seed: int, frames: int, size: int, action_mode: str = "ee_delta"):

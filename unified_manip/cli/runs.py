@@ -11,11 +11,11 @@ import sys
 from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
-from unified_manip.config import ACTION_MODES, REWARD_TYPES
+from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS
-from unified_manip.registry import TASKS
-from unified_manip.vector.factory import VEC_KINDS
+from unified_manip.envs.registry import TASKS
+from unified_manip.envs.vector.factory import VEC_KINDS
 
 
 def add_commands(sub) -> None:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import gymnasium as gym
 import numpy as np
 
-from unified_manip.registry import get_task
+from unified_manip.envs.registry import get_task
 
 
 @dataclass(frozen=True)

@@ -113,7 +113,7 @@ def _positive(value: str) -> int:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.checkpoint_size", description=__doc__.split("\n\n")[0])
     parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
-    from unified_manip.registry import TASKS
+    from unified_manip.envs.registry import TASKS
 
     ids = [t for t, spec in TASKS.items() if "ee_delta" in spec.action_modes]
     parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", choices=ids, metavar="ID",

@@ -99,7 +99,7 @@ def measure(task_id: str, action_mode: str, episodes: int = 200, moved: float = 
 
 def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes: int = 20, seed: int = 0) -> float:
     """Success of the task's scripted policy, played in ``action_mode`` as demonstrations
-    are (:mod:`unified_manip.controllers.translate`), with Gaussian noise of std ``sigma``
+    are (:mod:`unified_manip.envs.controllers.translate`), with Gaussian noise of std ``sigma``
     added to every action in that mode's own units (then clipped to ``[-1, 1]``): how
     much the same exploration noise disturbs a good policy in each mode."""
     import gymnasium as gym

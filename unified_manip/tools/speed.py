@@ -3,7 +3,7 @@
 For every ID x action mode, random actions are played through ``gym.make``'s env
 (wrappers included, env checker off) and two clocks run over the same steps: the wall
 time of the whole ``step`` calls, and the time spent inside the backend's
-:meth:`~unified_manip.backend.Backend.physics_step` (the substeps of ``mj_step``,
+:meth:`~unified_manip.envs.backend.Backend.physics_step` (the substeps of ``mj_step``,
 nothing else). Their ratio is the fraction of the raw physics limit the env reaches on
 exactly the states it visited. Compare ratios, not absolute rates: these machines are
 shared and noisy.
@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass
 import gymnasium as gym
 import numpy as np
 
-from unified_manip.registry import TASKS
+from unified_manip.envs.registry import TASKS
 
 
 @dataclass(frozen=True)

@@ -54,8 +54,8 @@ def _make(kind: str, task_id: str, mode: str, n: int, threads: int):
     if kind == "native-sb3":
         from gymnasium.vector import AutoresetMode
 
-        from unified_manip.vector.factory import make_vector_env
-        from unified_manip.vector.sb3 import NativeSB3VecEnv
+        from unified_manip.envs.vector.factory import make_vector_env
+        from unified_manip.envs.vector.sb3 import NativeSB3VecEnv
 
         spec = gym.spec(task_id)
         env = NativeSB3VecEnv(make_vector_env(n, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, threads, **kwargs))
@@ -105,9 +105,9 @@ def physics_rates(task_id: str, mode: str, n: int, threads: int, steps: int) -> 
     import mujoco
     from mujoco import rollout
 
-    from unified_manip.config import EnvConfig
-    from unified_manip.registry import get_task
-    from unified_manip.vector.pool import PhysicsPool
+    from unified_manip.envs.config import EnvConfig
+    from unified_manip.envs.registry import get_task
+    from unified_manip.envs.vector.pool import PhysicsPool
 
     spec = get_task(task_id)
     backends = [spec.make_backend(EnvConfig(action_mode=mode)) for _ in range(n)]
@@ -207,7 +207,7 @@ def _csv(kind: Callable[[str], Any]) -> Callable[[str], list]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from unified_manip.vector.pool import default_num_threads
+    from unified_manip.envs.vector.pool import default_num_threads
 
     p = argparse.ArgumentParser(prog="python -m unified_manip.tools.vector_bench", description=__doc__.split("\n\n")[0])
     p.add_argument("--env", default="UnifiedManip/Arm4PickAndPlace-v0", help="task ID")

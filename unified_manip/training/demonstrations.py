@@ -1,8 +1,8 @@
 """Demonstrations from the task's scripted policy in an off-policy run's replay buffer.
 
 The hyperparameter ``demonstrations: N`` plays N episodes of the task's scripted policy
-(:attr:`~unified_manip.registry.TaskSpec.scripted_policy`, in ``ee_delta``; in another mode
-through :mod:`unified_manip.controllers.translate`) before training starts and
+(:attr:`~unified_manip.envs.registry.TaskSpec.scripted_policy`, in ``ee_delta``; in another mode
+through :mod:`unified_manip.envs.controllers.translate`) before training starts and
 stores every transition in the replay buffer, as the HER paper's follow-up did with
 expert episodes (Nair et al. 2018, "Overcoming Exploration in Reinforcement Learning with
 Demonstrations"), without its behaviour-cloning loss. HER relabels them like any other
@@ -32,7 +32,7 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
     can be translated into)."""
     from unified_manip.training.hyperparams import ALGOS
-    from unified_manip.registry import get_task
+    from unified_manip.envs.registry import get_task
 
     if episodes < 0:
         raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")
@@ -55,7 +55,7 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
 def demonstrable_modes(task_id: str) -> list[str]:
     """The action modes of ``task_id`` that its scripted policy can play: those of the
     shared controllers (not a source's own ``native``)."""
-    from unified_manip.registry import get_task
+    from unified_manip.envs.registry import get_task
 
     return [mode for mode, config in get_task(task_id).controllers.items() if config.controller is not None]
 
@@ -63,10 +63,10 @@ def demonstrable_modes(task_id: str) -> list[str]:
 def policy(task_id: str, action_mode: str, env):
     """``obs -> action`` for ``env`` (a gymnasium env of ``task_id`` in ``action_mode``;
     unused in ``ee_delta``): the task's scripted ``ee_delta`` policy, its actions played in
-    ``action_mode`` through :class:`~unified_manip.controllers.translate.EEDeltaInMode` on
+    ``action_mode`` through :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on
     the env's own rig."""
-    from unified_manip.controllers.translate import EEDeltaInMode
-    from unified_manip.registry import get_task
+    from unified_manip.envs.controllers.translate import EEDeltaInMode
+    from unified_manip.envs.registry import get_task
 
     spec = get_task(task_id)
     scripted = spec.scripted_policy("ee_delta")

@@ -12,7 +12,7 @@ import numpy as np
 from unified_manip.training import rundir
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.hyperparams import get_algo
-from unified_manip.registry import get_task
+from unified_manip.envs.registry import get_task
 from unified_manip.training.request import TrainError
 from unified_manip.training.rundir import RunDirectoryError
 
@@ -48,7 +48,7 @@ def evaluate(
     import gymnasium as gym
     from scipy.stats import binomtest
 
-    from unified_manip.config import validate_reward_type
+    from unified_manip.envs.config import validate_reward_type
 
     if episodes <= 0:
         raise TrainError(f"--episodes must be positive, got {episodes}")

@@ -207,7 +207,7 @@ def split_entry(key: str) -> tuple[str, str | None]:
 
 
 def _names_a_task(key: str) -> bool:
-    from unified_manip.registry import TASKS
+    from unified_manip.envs.registry import TASKS
 
     task_id, mode = split_entry(key)
     return task_id in TASKS and (mode is None or mode in TASKS[task_id].action_modes)

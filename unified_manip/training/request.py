@@ -9,7 +9,7 @@ from typing import Any
 
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS
-from unified_manip.registry import get_task
+from unified_manip.envs.registry import get_task
 
 
 class TrainError(ValueError):
@@ -35,7 +35,7 @@ class TrainRequest:
         device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
             ``device`` key, and ``auto`` where that has none.
         vec: How the envs are stepped: ``native`` (the native vector env, through
-            :class:`~unified_manip.vector.sb3.NativeSB3VecEnv`), ``dummy`` (SB3's
+            :class:`~unified_manip.envs.vector.sb3.NativeSB3VecEnv`), ``dummy`` (SB3's
             ``DummyVecEnv``), ``subproc`` (``SubprocVecEnv``), or ``auto``: native where
             the ID has a native vector env and ``n_envs > 1``, else dummy for one env
             and subproc for more.
@@ -70,7 +70,7 @@ class TrainRequest:
             value = getattr(self, name)
             if value is not None and value <= 0:
                 raise TrainError(f"--{name.replace('_', '-')} must be positive, got {value}")
-        from unified_manip.vector.factory import resolve_vec
+        from unified_manip.envs.vector.factory import resolve_vec
 
         try:
             resolve_vec(self.vec, self.env, self.n_envs or 1)

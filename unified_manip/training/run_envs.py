@@ -18,15 +18,15 @@ def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int
                  vec: str = "auto"):
     """Monitored envs (``is_success`` logged), stepped as ``vec`` says: the native vector
     env (one ``VecMonitor``), or a ``DummyVecEnv`` / ``SubprocVecEnv`` of ``Monitor``-ed
-    envs (see :func:`unified_manip.vector.factory.resolve_vec` for ``auto``)."""
+    envs (see :func:`unified_manip.envs.vector.factory.resolve_vec` for ``auto``)."""
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    from unified_manip.vector.factory import resolve_vec
+    from unified_manip.envs.vector.factory import resolve_vec
 
     kind = resolve_vec(vec, env_id, n_envs)
     if kind == "native":
-        from unified_manip.vector.sb3 import make_monitored
+        from unified_manip.envs.vector.sb3 import make_monitored
 
         return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
 
@@ -61,7 +61,7 @@ def eval_env(req: TrainRequest, n_envs: int):
     It has the training env's wrapper layers, because EvalCallback copies VecNormalize
     statistics layer by layer and refuses chains that differ: a ``VecMonitor`` over an
     unmonitored env when the training env is the native vector env, else ``Monitor``-ed."""
-    from unified_manip.vector.factory import resolve_vec
+    from unified_manip.envs.vector.factory import resolve_vec
 
     native = resolve_vec(req.vec, req.env, n_envs) == "native"
     try:

@@ -25,7 +25,7 @@ from unified_manip.training import rundir
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
 from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve
-from unified_manip.registry import get_task
+from unified_manip.envs.registry import get_task
 from unified_manip.training.request import TrainError, TrainRequest
 from unified_manip.training.rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
 from unified_manip.training.run_envs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
@@ -65,7 +65,7 @@ def train(
     # The envs a run steps are recorded (and compared) as config.yaml's n_envs.
     file_n_envs = params.pop("n_envs", 1)
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
-    from unified_manip.vector.factory import resolve_vec
+    from unified_manip.envs.vector.factory import resolve_vec
 
     from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 
@@ -274,7 +274,7 @@ def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampl
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
     """Each reward term's scale in the run's reward design (what the raw terms are logged from)."""
-    from unified_manip.rewards import make_reward_spec
+    from unified_manip.envs.rewards import make_reward_spec
 
     spec = make_reward_spec(req.reward_type, get_task(req.env).shaping)
     return {term.name: float(term.scale) for term in spec.terms}

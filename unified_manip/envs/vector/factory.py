@@ -14,15 +14,15 @@ from typing import Any
 
 from gymnasium.vector import AutoresetMode, SyncVectorEnv, VectorEnv
 
-from unified_manip.config import EnvConfig
-from unified_manip.registry import get_task
-from unified_manip.vector.pool import default_num_threads
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.registry import get_task
+from unified_manip.envs.vector.pool import default_num_threads
 
 #: Family -> ``"module:Class"`` of its batched backend, built as
 #: ``Class(backends, action_mode, num_threads)`` from N of the family's own backends.
 BATCHED: dict[str, str] = {
-    "arm4": "unified_manip.vector.arm4:VectorizedArm4",
-    "fetch": "unified_manip.vector.threaded:ThreadedBatch",
+    "arm4": "unified_manip.envs.vector.arm4:VectorizedArm4",
+    "fetch": "unified_manip.envs.vector.threaded:ThreadedBatch",
 }
 
 #: Options the native vector env cannot honour; an ID given one falls back too.
@@ -105,7 +105,7 @@ def make_vector_env(
             return gym.make(task_id, max_episode_steps=max_episode_steps, **env_kwargs)
 
         return SyncVectorEnv([make_one] * num_envs, autoreset_mode=autoreset_mode)
-    from unified_manip.vector.env import NativeVectorEnv
+    from unified_manip.envs.vector.env import NativeVectorEnv
 
     options = dict(env_kwargs)
     config = EnvConfig(

@@ -1,10 +1,10 @@
 """Callables and module attributes that import their code on first use.
 
 ``import unified_manip`` registers every task without importing any simulator: a
-:class:`~unified_manip.registry.TaskSpec` names its backend as a :class:`Lazy`
+:class:`~unified_manip.envs.registry.TaskSpec` names its backend as a :class:`Lazy`
 ``"module:attribute"`` target, imported by the first ``gym.make`` of one of the
 family's IDs. :func:`reexport` keeps a family package's old module-level names
-importable from the package (``from unified_manip.tasks.arm4 import Arm4Backend``)
+importable from the package (``from unified_manip.envs.tasks.arm4 import Arm4Backend``)
 without importing its simulator when only the package is imported.
 """
 

@@ -23,8 +23,8 @@ import numpy as np
 from gymnasium.vector import AutoresetMode
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
 
-from unified_manip.vector.env import NativeVectorEnv
-from unified_manip.vector.factory import make_vector_env
+from unified_manip.envs.vector.env import NativeVectorEnv
+from unified_manip.envs.vector.factory import make_vector_env
 
 _SKIP = ("final_obs", "final_info")
 

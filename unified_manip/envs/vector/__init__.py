@@ -1,9 +1,9 @@
 """Vector envs: N envs of one task stepped in one call.
 
 ``gym.make_vec("UnifiedManip/<task>-v0", num_envs=N, action_mode=..., reward_type=...)``
-returns a :class:`~unified_manip.vector.env.NativeVectorEnv` for families with a batched
+returns a :class:`~unified_manip.envs.vector.env.NativeVectorEnv` for families with a batched
 backend (the 4-DOF arm), and Gymnasium's ``SyncVectorEnv`` with a one-line notice for
-the others. :class:`~unified_manip.vector.sb3.NativeSB3VecEnv` gives the native env
+the others. :class:`~unified_manip.envs.vector.sb3.NativeSB3VecEnv` gives the native env
 Stable-Baselines3's ``VecEnv`` interface.
 
 =================  =============================================================
@@ -19,6 +19,6 @@ module             concept
 =================  =============================================================
 """
 
-from unified_manip.vector.factory import VectorFallbackWarning, make_vector_env, native_support
+from unified_manip.envs.vector.factory import VectorFallbackWarning, make_vector_env, native_support
 
 __all__ = ["VectorFallbackWarning", "make_vector_env", "native_support"]

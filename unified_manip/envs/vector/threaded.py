@@ -19,8 +19,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.vector.batched import BatchedBackend
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.vector.batched import BatchedBackend
 
 
 class ThreadedBatch(BatchedBackend):

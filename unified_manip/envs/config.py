@@ -12,7 +12,7 @@ from typing import Any, Mapping
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
 #: A family declares which it supports, each with its controller config
-#: (:mod:`unified_manip.controllers`).
+#: (:mod:`unified_manip.envs.controllers`).
 ACTION_MODES: tuple[str, ...] = (
     "joint_torque",
     "joint_position",
@@ -59,10 +59,10 @@ class EnvConfig:
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width in pixels of ``rgb_array`` frames.
         render_height: Height in pixels of ``rgb_array`` frames.
-        reward_config: The reward designs' numbers (:class:`~unified_manip.rewards.RewardConfig`),
+        reward_config: The reward designs' numbers (:class:`~unified_manip.envs.rewards.RewardConfig`),
             or ``None`` for the defaults.
         reward_spec: A reward design of your own
-            (:class:`~unified_manip.rewards.RewardSpec`) used instead of ``reward_type``'s,
+            (:class:`~unified_manip.envs.rewards.RewardSpec`) used instead of ``reward_type``'s,
             e.g. a candidate checked by ``unified_manip.experiments.sanity``; ``None`` normally.
         options: Family-specific keyword arguments (e.g. ``robot`` for robosuite),
             validated by the family itself.
@@ -85,7 +85,7 @@ class EnvConfig:
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
         validate_reward_type(self.reward_type)
-        from unified_manip.rewards import RewardConfig, RewardSpec  # rewards imports this module
+        from unified_manip.envs.rewards import RewardConfig, RewardSpec  # rewards imports this module
 
         for name, cls in (("reward_config", RewardConfig), ("reward_spec", RewardSpec)):
             value = getattr(self, name)

@@ -9,10 +9,10 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
-from unified_manip.config import EnvConfig
-from unified_manip.controllers.actions import checked_actions
-from unified_manip.registry import get_task
-from unified_manip.rewards import info_arrays, reward_spec_for
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.registry import get_task
+from unified_manip.envs.rewards import info_arrays, reward_spec_for
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -23,17 +23,17 @@ class UnifiedManipEnv(GoalEnv):
 
     Args:
         task_id: The registered ID (filled in by the registration).
-        action_mode: See :data:`unified_manip.config.ACTION_MODES`.
+        action_mode: See :data:`unified_manip.envs.config.ACTION_MODES`.
         reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
         terminate_on_success: End the episode (``terminated=True``) on success.
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width of ``rgb_array`` frames in pixels.
         render_height: Height of ``rgb_array`` frames in pixels.
-        reward_config: The reward designs' numbers (``unified_manip.rewards.RewardConfig``).
+        reward_config: The reward designs' numbers (``unified_manip.envs.rewards.RewardConfig``).
         reward_spec: A reward design of your own, instead of ``reward_type``'s.
         controller_options: Parameters of the action mode's controller in place of the
             task's, e.g. ``{"band": 0.75}`` for ``joint_position``
-            (``unified_manip.config.EnvConfig.mode_config``).
+            (``unified_manip.envs.config.EnvConfig.mode_config``).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -180,8 +180,8 @@ class UnifiedManipEnv(GoalEnv):
 
     def timing_physics(self):
         """A context manager that times the simulator's physics alone, as a
-        :class:`~unified_manip.backend.PhysicsTimer` (``unified-manip speed``'s hook;
-        see :meth:`~unified_manip.backend.Backend.timing_physics`)."""
+        :class:`~unified_manip.envs.backend.PhysicsTimer` (``unified-manip speed``'s hook;
+        see :meth:`~unified_manip.envs.backend.Backend.timing_physics`)."""
         return self._backend.timing_physics()
 
     # ------------------------------------------------------------------ GoalEnv API

@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING, Callable, Mapping
 import gymnasium as gym
 import numpy as np
 
-from unified_manip.config import ACTION_MODES, EnvConfig
-from unified_manip.controllers import ControllerConfig
-from unified_manip.rewards import SHAPINGS
+from unified_manip.envs.config import ACTION_MODES, EnvConfig
+from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.rewards import SHAPINGS
 
 if TYPE_CHECKING:
-    from unified_manip.backend import Backend
+    from unified_manip.envs.backend import Backend
 
 NAMESPACE = "UnifiedManip"
 
@@ -141,8 +141,8 @@ def register_task(spec: TaskSpec) -> TaskSpec:
     TASKS[spec.id] = spec
     gym.register(
         id=spec.id,
-        entry_point="unified_manip.env:UnifiedManipEnv",
-        vector_entry_point="unified_manip.vector:make_vector_env",
+        entry_point="unified_manip.envs.env:UnifiedManipEnv",
+        vector_entry_point="unified_manip.envs.vector:make_vector_env",
         kwargs={"task_id": spec.id},
         max_episode_steps=spec.max_episode_steps,
     )

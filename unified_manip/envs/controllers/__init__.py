@@ -9,7 +9,7 @@
 Importing this package imports only the configs (no simulator).
 """
 
-from unified_manip.controllers.configs import (
+from unified_manip.envs.controllers.configs import (
     COMMAND_KINDS,
     ControllerConfig,
     EEDelta,

@@ -19,7 +19,7 @@ import numpy as np
 @dataclass(frozen=True)
 class IKJoints:
     """The joints and site :class:`MinkIK` works on, for models whose arm is not
-    driven through a :class:`~unified_manip.controllers.rig.MujocoRig` (e.g. a simulator with its own
+    driven through a :class:`~unified_manip.envs.controllers.rig.MujocoRig` (e.g. a simulator with its own
     joint controllers).
 
     Attributes:
@@ -117,7 +117,7 @@ class MinkIK:
     Args:
         model: The MuJoCo model.
         rig: Supplies the active joints, their ranges and the IK site (an
-            :class:`~unified_manip.controllers.rig.MujocoRig` or an :class:`IKJoints`).
+            :class:`~unified_manip.envs.controllers.rig.MujocoRig` or an :class:`IKJoints`).
         orientation_cost: Weight of the orientation error relative to position
             (0 ignores orientation).
         max_joint_step: Largest joint change per call, rad.

@@ -38,7 +38,7 @@ reward_config=RewardConfig(scales=RewardScales(place=2.0)))`` changes one.
 add up to the step reward; the raw, unscaled terms come from
 ``env.unwrapped.compute_reward_terms(..., raw=True)`` (batched, like
 ``compute_reward``) or, per step in ``info["reward_terms_raw"]``, from the
-:class:`unified_manip.wrappers.RawRewardTerms` wrapper.
+:class:`unified_manip.envs.wrappers.RawRewardTerms` wrapper.
 """
 
 from __future__ import annotations
@@ -48,10 +48,10 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from unified_manip.config import validate_reward_type
+from unified_manip.envs.config import validate_reward_type
 
 if TYPE_CHECKING:
-    from unified_manip.config import EnvConfig
+    from unified_manip.envs.config import EnvConfig
 
 #: Shaping templates: which terms the dense rewards use (``TaskSpec.shaping``).
 SHAPINGS: tuple[str, ...] = ("reach", "push", "grasp")

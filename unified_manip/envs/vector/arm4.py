@@ -4,7 +4,7 @@
 so each env keeps its own model, data, reset code and mink IK. A step:
 
 1. computes the joint modes' controls for all N envs at once in numpy (the formulas of
-   :mod:`unified_manip.controllers.joint`, written over rows; the end-effector and
+   :mod:`unified_manip.envs.controllers.joint`, written over rows; the end-effector and
    target-relative modes run each env's own controller);
 2. steps the physics of each env on the :class:`~.pool.PhysicsPool`. Per env, a worker
    writes the controls, runs the backend's ``physics_step`` (``mj_step`` releases the
@@ -28,18 +28,18 @@ from typing import Any, Sequence
 import mujoco
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.controllers.joint import (
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.controllers.joint import (
     JointDeltaController,
     JointPositionController,
     JointTorqueController,
     JointVelocityController,
 )
-from unified_manip.vector.batched import BatchedBackend
+from unified_manip.envs.vector.batched import BatchedBackend
 
 _QPOS_QVEL = int(mujoco.mjtState.mjSTATE_QPOS | mujoco.mjtState.mjSTATE_QVEL)
 #: The warnings MuJoCo counts when it finds a diverged state and resets it (as
-#: ``unified_manip.physics.bad_state_warnings``).
+#: ``unified_manip.envs.physics.bad_state_warnings``).
 _BAD_QPOS, _BAD_QVEL, _BAD_QACC = (
     int(mujoco.mjtWarning.mjWARN_BADQPOS),
     int(mujoco.mjtWarning.mjWARN_BADQVEL),
@@ -130,7 +130,7 @@ class VectorizedArm4(BatchedBackend):
                 if not np.array_equal(obs[key][i], value):
                     raise RuntimeError(
                         f"VectorizedArm4: {key} of env {i} differs from Arm4Backend's; "
-                        "update unified_manip/vector/arm4.py to the family's observation layout"
+                        "update unified_manip/envs/vector/arm4.py to the family's observation layout"
                     )
 
     # ------------------------------------------------------------------ episodes

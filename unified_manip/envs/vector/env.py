@@ -18,12 +18,12 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from unified_manip.config import EnvConfig
-from unified_manip.controllers.actions import checked_actions
-from unified_manip.registry import get_task
-from unified_manip.rewards import INFO_KEYS, info_arrays, reward_spec_for
-from unified_manip.vector import infos as vinfo
-from unified_manip.vector.batched import BatchedBackend
+from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.registry import get_task
+from unified_manip.envs.rewards import INFO_KEYS, info_arrays, reward_spec_for
+from unified_manip.envs.vector import infos as vinfo
+from unified_manip.envs.vector.batched import BatchedBackend
 
 
 class NativeVectorEnv(VectorEnv):
@@ -90,7 +90,7 @@ class NativeVectorEnv(VectorEnv):
 
     @property
     def task(self):
-        """The task's :class:`~unified_manip.registry.TaskSpec` (looked up by ID: specs
+        """The task's :class:`~unified_manip.envs.registry.TaskSpec` (looked up by ID: specs
         hold factories, so the env pickles the ID)."""
         return get_task(self._task_id)
 

@@ -1,11 +1,11 @@
 """The one abstract base a family implements to run natively in the vector env.
 
 A *batched backend* owns N simulations of one task under one action mode and steps any
-subset of them in one call. The shared :class:`~unified_manip.vector.env.NativeVectorEnv`
+subset of them in one call. The shared :class:`~unified_manip.envs.vector.env.NativeVectorEnv`
 turns it into a Gymnasium vector env (validation, time limits, rewards, success,
 autoreset, info arrays) without looking at which family it is. Its contract is the
 single env's: env ``i`` of a batched backend, reset with the same generator and given
-the same actions, produces exactly what the family's :class:`~unified_manip.backend.Backend`
+the same actions, produces exactly what the family's :class:`~unified_manip.envs.backend.Backend`
 produces, bit for bit.
 
 Arrays hold one row per env. Rows of envs that were not part of the last ``step`` or
@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.backend import Backend
-from unified_manip.vector.pool import PhysicsPool
+from unified_manip.envs.backend import Backend
+from unified_manip.envs.vector.pool import PhysicsPool
 
 
 class BatchedBackend(abc.ABC):

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.controllers.ik import MinkIK
+from unified_manip.envs.controllers.ik import MinkIK
 
 
 class EEDeltaController:

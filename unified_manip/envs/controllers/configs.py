@@ -3,7 +3,7 @@
 A family declares ``{mode: config}``; the config names its one implementation
 (:attr:`ControllerConfig.controller`, a ``"module:Class"`` imported on first build)
 and holds the mode's parameters. The implementation drives any family through the
-family's *rig* (:mod:`unified_manip.controllers.rig`): joint and actuator indices,
+family's *rig* (:mod:`unified_manip.envs.controllers.rig`): joint and actuator indices,
 ranges, the grip site and how a command reaches the actuators. Configs import nothing
 heavy, so families declare them at registration without loading a simulator.
 
@@ -19,13 +19,13 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from unified_manip.lazy import resolve
+from unified_manip.envs.lazy import resolve
 
 #: What a controller sends to the rig: joint position targets, joint torques or joint
 #: velocities. The rig configures its actuators for it once, when the env is built.
 COMMAND_KINDS: tuple[str, ...] = ("position", "torque", "velocity")
 
-_PACKAGE = "unified_manip.controllers"
+_PACKAGE = "unified_manip.envs.controllers"
 
 
 def _positive(owner: str, name: str, value: Any) -> None:

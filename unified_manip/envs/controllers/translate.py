@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from unified_manip.controllers.configs import EEDelta
-from unified_manip.controllers.ik import MinkIK
+from unified_manip.envs.controllers.configs import EEDelta
+from unified_manip.envs.controllers.ik import MinkIK
 
 
 class EEDeltaInMode:

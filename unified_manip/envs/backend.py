@@ -1,10 +1,10 @@
 """The one abstract base: what a simulator family provides to the shared env.
 
 A *backend* owns one simulator instance for one task and one action mode. The shared
-:class:`unified_manip.env.UnifiedManipEnv` turns it into a goal-conditioned Gymnasium
+:class:`unified_manip.envs.env.UnifiedManipEnv` turns it into a goal-conditioned Gymnasium
 env; it never looks at which simulator it is talking to. A family (the 4-DOF arm,
 gymnasium-robotics, robosuite) implements this class once and builds one instance per
-env from the validated :class:`~unified_manip.config.EnvConfig`.
+env from the validated :class:`~unified_manip.envs.config.EnvConfig`.
 """
 
 from __future__ import annotations
