@@ -9,7 +9,6 @@ of one of the family's IDs. To add a family, add a package with a
 """
 
 from unified_manip.envs.registry import register_task
-
 from unified_manip.envs.tasks import arm4, fetch, robosuite_tasks, shadow_hand
 
 #: The families, in registration order (the order ``unified-manip list`` shows).

@@ -19,8 +19,9 @@ def toward(delta: np.ndarray, gain: float = 10.0) -> np.ndarray:
     return np.clip(np.asarray(delta) * gain, -1.0, 1.0)
 
 
-def pick_and_place(to_obj: np.ndarray, to_goal: np.ndarray, closed_on_cube: bool, align: float,
-                   hover: float, near: float) -> np.ndarray:
+def pick_and_place(
+    to_obj: np.ndarray, to_goal: np.ndarray, closed_on_cube: bool, align: float, hover: float, near: float
+) -> np.ndarray:
     """The top-down grasp the arm and Fetch share: carry the object to the goal once the
     fingers are closed on it; otherwise line up ``hover`` m above it (open) until within
     ``align`` m in xy, descend (open) until within ``near`` m, and close.

@@ -108,9 +108,7 @@ def hashes_in_child(keys: list[str] | None = None, timeout: float = 1800) -> dic
     """The hashes of ``keys`` (all cases if ``None``), played in a child process with
     :data:`PORTABLE_ENV`."""
     cmd = [sys.executable, __file__, "--hashes", *(keys or [])]
-    out = subprocess.run(
-        cmd, env={**os.environ, **PORTABLE_ENV}, capture_output=True, text=True, timeout=timeout
-    )
+    out = subprocess.run(cmd, env={**os.environ, **PORTABLE_ENV}, capture_output=True, text=True, timeout=timeout)
     if out.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd[1:3])} failed (exit {out.returncode}):\n{out.stderr[-4000:]}")
     return json.loads(out.stdout)

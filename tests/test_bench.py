@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 import yaml
 
-from unified_manip.experiments.grid import GridError, load_grid
-from unified_manip.experiments.results import read_results, write_results
-from unified_manip.experiments.bench import run_grid
-from unified_manip.experiments.report import build_report
-from unified_manip.experiments.figures import final_bars
-from unified_manip.experiments.curves import read_scalars
 from unified_manip.envs.rewards import RewardSpec, Term
+from unified_manip.experiments.bench import run_grid
+from unified_manip.experiments.curves import read_scalars
+from unified_manip.experiments.figures import final_bars
+from unified_manip.experiments.grid import GridError, load_grid
+from unified_manip.experiments.report import build_report
+from unified_manip.experiments.results import read_results, write_results
 from unified_manip.experiments.sanity import dense_reward_check
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -36,13 +36,16 @@ TINY = {
     "steps": 200,
     "eval_freq": 100,
     "n_eval_episodes": 2,
-    "overrides": {"sac_her": ["learning_starts=50", "batch_size=32", "checkpoint_freq=100", "policy_kwargs.net_arch=[16,16]"]},
+    "overrides": {
+        "sac_her": ["learning_starts=50", "batch_size=32", "checkpoint_freq=100", "policy_kwargs.net_arch=[16,16]"]
+    },
 }
 
 
 def cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True,
-                          timeout=300, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=300, cwd=ROOT
+    )
 
 
 def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
@@ -70,7 +73,12 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
     summary = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
     assert summary["finished"] == 4 and summary["failed"] == []
     rows = _check_complete(tmp_path / "out", 4)
-    assert {(r["action_mode"], r["seed"]) for r in rows} == {("ee_delta", 0), ("ee_delta", 1), ("joint_delta", 0), ("joint_delta", 1)}
+    assert {(r["action_mode"], r["seed"]) for r in rows} == {
+        ("ee_delta", 0),
+        ("ee_delta", 1),
+        ("joint_delta", 0),
+        ("joint_delta", 1),
+    }
     # A second bench skips every finished run.
     again = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
     assert again["finished"] == 4 and again["wall_time_s"] < 5
@@ -78,8 +86,11 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
     # the same rows, and no run starts (the two missing ones stay missing).
     other = tmp_path / "other"
     for row in rows[:2]:  # as committed: models, buffers and checkpoints are git-ignored
-        shutil.copytree(tmp_path / "out" / "runs" / row["run"], other / "runs" / row["run"],
-                        ignore=shutil.ignore_patterns("*.zip", "*.pkl", "checkpoints", "best"))
+        shutil.copytree(
+            tmp_path / "out" / "runs" / row["run"],
+            other / "runs" / row["run"],
+            ignore=shutil.ignore_patterns("*.zip", "*.pkl", "checkpoints", "best"),
+        )
     done = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--no-progress")
     assert done.returncode == 0 and "2/4 runs finished, 0 failed" in done.stdout, done.stderr
     assert {r["run"]: r for r in read_results(other / "results.csv")} == {r["run"]: r for r in rows[:2]}
@@ -87,16 +98,34 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
     assert not (other / "command.txt").exists()
     both = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--only", "seed=0")
     assert both.returncode == 2 and both.stderr.strip() == (
-        "unified-manip bench: error: --only chooses runs to train and --collect trains none; give one or the other")
+        "unified-manip bench: error: --only chooses runs to train and --collect trains none; give one or the other"
+    )
 
 
 def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
     # In its own process, as users run it: Ray's head is forked from a small CLI process,
     # never from a test worker that has grown over the whole suite.
     out = tmp_path / "out"
-    proc = subprocess.run([sys.executable, "-m", "unified_manip.cli", "bench", str(write_grid(tmp_path, TINY)),
-                           "--out", str(out), "--executor", "ray", "--workers", "2", "--no-progress"],
-                          capture_output=True, text=True, timeout=600, cwd=ROOT)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "unified_manip.cli",
+            "bench",
+            str(write_grid(tmp_path, TINY)),
+            "--out",
+            str(out),
+            "--executor",
+            "ray",
+            "--workers",
+            "2",
+            "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=ROOT,
+    )
     assert proc.returncode == 0, proc.stderr
     assert f"4/4 runs finished, 0 failed; results in {out / 'results.csv'}" in proc.stdout
     _check_complete(out, 4)
@@ -122,7 +151,18 @@ def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path
 def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_path):
     grid_path = write_grid(tmp_path, dict(TINY, steps=200))
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "unified_manip.cli", "bench", str(grid_path), "--out", str(out), "--workers", "1", "--no-progress"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "unified_manip.cli",
+        "bench",
+        str(grid_path),
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--no-progress",
+    ]
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
     deadline = time.time() + 600
     while time.time() < deadline:
@@ -173,27 +213,52 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
 @pytest.mark.parametrize(
     "change,message",
     [
-        ({"seeds": None}, "missing grid key(s) seeds; required: tasks, action_modes, reward_types, algos, seeds, steps"),
-        ({"budget": 10}, "unknown grid key(s) 'budget'; expected tasks, action_modes, reward_types, algos, seeds, steps, name, description, eval_freq, n_eval_episodes, overrides, n_envs"),
-        ({"tasks": ["UnifiedManip/Nope-v0"]}, "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0"),
+        (
+            {"seeds": None},
+            "missing grid key(s) seeds; required: tasks, action_modes, reward_types, algos, seeds, steps",
+        ),
+        (
+            {"budget": 10},
+            "unknown grid key(s) 'budget'; expected tasks, action_modes, reward_types, algos, seeds, steps, name, description, eval_freq, n_eval_episodes, overrides, n_envs",
+        ),
+        (
+            {"tasks": ["UnifiedManip/Nope-v0"]},
+            "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0",
+        ),
         ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her, crossq_her"),
-        ({"reward_types": ["shaped"]}, "unknown reward_type 'shaped'; expected one of 'sparse', 'dense', 'dense_penalized'"),
+        (
+            {"reward_types": ["shaped"]},
+            "unknown reward_type 'shaped'; expected one of 'sparse', 'dense', 'dense_penalized'",
+        ),
         ({"steps": 0}, "steps must be a positive integer, got 0"),
         ({"seeds": []}, "grid key 'seeds' must be a non-empty list of int, got []"),
         ({"action_modes": ["teleport"]}, "unknown action_mode 'teleport'; expected one of 'joint_torque', "),
-        ({"tasks": ["UnifiedManip/HandReach-v0"], "action_modes": ["ee_delta"]},
-         "action_mode 'ee_delta' is not supported by UnifiedManip/HandReach-v0; expected one of 'joint_delta', "),
+        (
+            {"tasks": ["UnifiedManip/HandReach-v0"], "action_modes": ["ee_delta"]},
+            "action_mode 'ee_delta' is not supported by UnifiedManip/HandReach-v0; expected one of 'joint_delta', ",
+        ),
         ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
-        ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_steps=10"]}},
-         "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
-        ({"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_weight=2"]}},
-         "bc_weight=2 imitates the demonstrations; set demonstrations to 1 or more episodes"),
+        (
+            {"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_steps=10"]}},
+            "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes",
+        ),
+        (
+            {"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_weight=2"]}},
+            "bc_weight=2 imitates the demonstrations; set demonstrations to 1 or more episodes",
+        ),
         ({"env_kwargs": ["band"]}, "env_kwargs must be a mapping of gym.make keyword arguments, got ['band']"),
-        ({"env_kwargs": {"action_mode": "joint_position"}}, "env_kwargs may not set 'action_mode'; the grid's own keys choose it"),
-        ({"env_kwargs": {"controller_options": {"band": 0.5}}},
-         "unknown controller option 'band' for action_mode 'ee_delta' (EEDelta); expected one of 'step', "),
-        ({"algos": ["ppo"], "overrides": {"ppo": ["demonstrations=5"]}},
-         "demonstrations go into a replay buffer; use an off-policy algorithm (sac, "),
+        (
+            {"env_kwargs": {"action_mode": "joint_position"}},
+            "env_kwargs may not set 'action_mode'; the grid's own keys choose it",
+        ),
+        (
+            {"env_kwargs": {"controller_options": {"band": 0.5}}},
+            "unknown controller option 'band' for action_mode 'ee_delta' (EEDelta); expected one of 'step', ",
+        ),
+        (
+            {"algos": ["ppo"], "overrides": {"ppo": ["demonstrations=5"]}},
+            "demonstrations go into a replay buffer; use an off-policy algorithm (sac, ",
+        ),
     ],
 )
 def test_malformed_grids_give_exact_errors(tmp_path, change, message):
@@ -213,8 +278,11 @@ def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
     """None reaches train, which takes the file's n_envs (else 1); a grid's own wins."""
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, TINY)).runs} == {None}
     three = {**TINY, "n_envs": {"sac_her": 3}}
-    with pytest.raises(GridError, match=r"learning_starts=50 starts training at step 51, before the first episodes end "
-                                        r"at step 150 \(3 envs x 50 steps\)"):
+    with pytest.raises(
+        GridError,
+        match=r"learning_starts=50 starts training at step 51, before the first episodes end "
+        r"at step 150 \(3 envs x 50 steps\)",
+    ):
         load_grid(write_grid(tmp_path, three))  # checked with the grid's n_envs, before any run starts
     three["overrides"] = {"sac_her": [*TINY["overrides"]["sac_her"], "learning_starts=150"]}
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, three)).runs} == {3}
@@ -223,19 +291,30 @@ def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
 def test_a_grids_env_kwargs_reach_every_run_its_config_and_its_report(tmp_path):
     """The zoo's env_kwargs: here a controller option, recorded in config.yaml (so resume
     compares it and eval rebuilds the same env) and stated in the report."""
-    doc = {**TINY, "action_modes": ["joint_position"], "seeds": [0], "env_kwargs": {"controller_options": {"band": 0.4}}}
+    doc = {
+        **TINY,
+        "action_modes": ["joint_position"],
+        "seeds": [0],
+        "env_kwargs": {"controller_options": {"band": 0.4}},
+    }
     grid = load_grid(write_grid(tmp_path, doc))
     assert [r.env_kwargs for r in grid.runs] == [{"controller_options": {"band": 0.4}}]
     out = tmp_path / "out"
     assert run_grid(grid, out, executor="local", workers=1, progress=False)["finished"] == 1
     run = out / "runs" / grid.runs[0].name
     config = yaml.safe_load((run / "config.yaml").read_text())
-    assert config["env_kwargs"] == {"action_mode": "joint_position", "reward_type": "sparse",
-                                    "controller_options": {"band": 0.4}}
+    assert config["env_kwargs"] == {
+        "action_mode": "joint_position",
+        "reward_type": "sparse",
+        "controller_options": {"band": 0.4},
+    }
     done = cli("eval", str(run), "--episodes", "1")
     assert done.returncode == 0, done.stderr
     text = build_report(out / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert "- Env keyword arguments of every run (the grid's `env_kwargs`): `{\"controller_options\": {\"band\": 0.4}}`." in text
+    assert (
+        '- Env keyword arguments of every run (the grid\'s `env_kwargs`): `{"controller_options": {"band": 0.4}}`.'
+        in text
+    )
 
 
 def test_committed_grids_are_valid():
@@ -254,12 +333,22 @@ def _fixture_rows() -> list[dict]:
     finals = {"ee_delta": [0.2, 0.4, 0.6, 0.8], "joint_delta": [0.1, 0.1, 0.3, 0.3]}
     for mode, values in finals.items():
         for seed, final in enumerate(values):
-            rows.append({
-                "run": f"Arm4Reach-v0__{mode}__sparse__sac_her__s{seed}", "task": "UnifiedManip/Arm4Reach-v0",
-                "action_mode": mode, "reward_type": "sparse", "algo": "sac_her", "seed": seed, "steps": 1000,
-                "final_success_rate": final, "curve": json.dumps([[500, final / 2], [1000, final]]),
-                "wall_time_s": 100.0, "steps_per_s": 10.0, "versions": versions,
-            })
+            rows.append(
+                {
+                    "run": f"Arm4Reach-v0__{mode}__sparse__sac_her__s{seed}",
+                    "task": "UnifiedManip/Arm4Reach-v0",
+                    "action_mode": mode,
+                    "reward_type": "sparse",
+                    "algo": "sac_her",
+                    "seed": seed,
+                    "steps": 1000,
+                    "final_success_rate": final,
+                    "curve": json.dumps([[500, final / 2], [1000, final]]),
+                    "wall_time_s": 100.0,
+                    "steps_per_s": 10.0,
+                    "versions": versions,
+                }
+            )
     return rows
 
 
@@ -269,8 +358,11 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     write_results(bench, _fixture_rows())
     path = build_report(bench / "results.csv", tmp_path / "report", command="unified-manip report fixture")
     text = path.read_text()
-    table = {line.split("|")[3].strip(): [c.strip() for c in line.split("|")] for line in text.splitlines()
-             if line.startswith("| Arm4Reach-v0 | sac_her |")}
+    table = {
+        line.split("|")[3].strip(): [c.strip() for c in line.split("|")]
+        for line in text.splitlines()
+        if line.startswith("| Arm4Reach-v0 | sac_her |")
+    }
     ee, jd = table["ee_delta"], table["joint_delta"]
     assert ee[6] == "0.50" and jd[6] == "0.20"  # means: (0.2+0.4+0.6+0.8)/4 and (0.1+0.1+0.3+0.3)/4
     # IQM of four runs trims one from each end: (0.4 + 0.6) / 2 and (0.1 + 0.3) / 2.
@@ -282,8 +374,14 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     # 0.1s, 0.4, 0.6 and 0.8 beat all four: 14 of 16 pairs -> 0.875, shown as 0.88.
     assert "| 2 | joint_delta | 0.20 | 0.88 |" in text
     assert "| 1 | ee_delta | 0.50 | — |" in text
-    for needle in ("Budget: 1,000 environment steps", "Seeds: 0, 1, 2, 3", "mujoco 3.9.0", "unified-manip report fixture",
-                   "![UnifiedManip/Arm4Reach-v0](Arm4Reach-v0_success.png)", "Dense-reward sanity check"):
+    for needle in (
+        "Budget: 1,000 environment steps",
+        "Seeds: 0, 1, 2, 3",
+        "mujoco 3.9.0",
+        "unified-manip report fixture",
+        "![UnifiedManip/Arm4Reach-v0](Arm4Reach-v0_success.png)",
+        "Dense-reward sanity check",
+    ):
         assert needle in text
     assert (tmp_path / "report" / "Arm4Reach-v0_success.png").stat().st_size > 10_000
     # The final-success figure: one bar per setting, best first, labelled by what differs.
@@ -294,10 +392,14 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
         groups.setdefault((r["algo"], r["action_mode"], r["reward_type"]), []).append(r)
     bars = final_bars(groups)
     assert [(b.label, round(b.mean, 6), b.values) for b in bars] == [
-        ("ee_delta", 0.5, (0.2, 0.4, 0.6, 0.8)), ("joint_delta", 0.2, (0.1, 0.1, 0.3, 0.3))]
+        ("ee_delta", 0.5, (0.2, 0.4, 0.6, 0.8)),
+        ("joint_delta", 0.2, (0.1, 0.1, 0.3, 0.3)),
+    ]
     assert f"[{bars[0].low:.2f}, {bars[0].high:.2f}]" == ee[7]  # the table's interval
-    mixed = {("sac_her", "ee_delta", "sparse"): groups[("sac_her", "ee_delta", "sparse")],
-             ("ppo", "ee_delta", "dense"): groups[("sac_her", "joint_delta", "sparse")]}
+    mixed = {
+        ("sac_her", "ee_delta", "sparse"): groups[("sac_her", "ee_delta", "sparse")],
+        ("ppo", "ee_delta", "dense"): groups[("sac_her", "joint_delta", "sparse")],
+    }
     assert [b.label for b in final_bars(mixed)] == ["sparse / sac_her", "dense / ppo"]
 
 
@@ -313,22 +415,30 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     read = read_results(bench / "results.csv")
     assert sum(r["demonstrations"] is not None for r in read) == 4
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert ("- Demonstrations: 4 of 8 runs started with 104 episodes of the task's scripted policy in the replay "
-            "buffer (their success 0.98–1.00); they are not counted in the budget.\n") in text
+    assert (
+        "- Demonstrations: 4 of 8 runs started with 104 episodes of the task's scripted policy in the replay "
+        "buffer (their success 0.98–1.00); they are not counted in the budget.\n"
+    ) in text
     # Runs whose actor was behaviour-cloned on them (bc_steps) say that too.
     cloned = json.loads(rows[0]["demonstrations"])
-    rows[0]["demonstrations"] = json.dumps({**cloned, "behaviour_cloning": {"steps": 5000, "loss_first": 3.0, "loss_last": -20.0}})
+    rows[0]["demonstrations"] = json.dumps(
+        {**cloned, "behaviour_cloning": {"steps": 5000, "loss_first": 3.0, "loss_last": -20.0}}
+    )
     write_results(bench, rows)
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert ("they are not counted in the budget. The actor of 1 of them was behaviour-cloned on them first "
-            "(5,000 gradient steps).\n") in text
+    assert (
+        "they are not counted in the budget. The actor of 1 of them was behaviour-cloned on them first "
+        "(5,000 gradient steps).\n"
+    ) in text
     # And those that kept a cloning loss during training (bc_weight) say that.
     rows[1]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5})  # recorded before bc_q_filter
     rows[2]["demonstrations"] = json.dumps({**cloned, "cloning_loss_weight": 2.5, "cloning_loss_q_filter": False})
     write_results(bench, rows)
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert ("(5,000 gradient steps). 2 of them kept a cloning loss on them in every actor update "
-            "(weight 2.5, unfiltered; weight 2.5, Q-filtered).\n") in text
+    assert (
+        "(5,000 gradient steps). 2 of them kept a cloning loss on them in every actor update "
+        "(weight 2.5, unfiltered; weight 2.5, Q-filtered).\n"
+    ) in text
     # On the sampled action (bc_sampled), recorded only where set.
     rows[2]["demonstrations"] = json.dumps({**json.loads(rows[2]["demonstrations"]), "cloning_loss_sampled": True})
     write_results(bench, rows)
@@ -338,8 +448,10 @@ def test_report_states_the_demonstrations_runs_started_with(tmp_path):
     rows[3]["demonstrations"] = json.dumps({**cloned, "offline": {"steps": 20000, "first": {}, "last": {}}})
     write_results(bench, rows)
     text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
-    assert ("(5,000 gradient steps). 1 of them took 20,000 gradient steps of the algorithm's own update on them "
-            "alone before the first rollout. 2 of them kept") in text
+    assert (
+        "(5,000 gradient steps). 1 of them took 20,000 gradient steps of the algorithm's own update on them "
+        "alone before the first rollout. 2 of them kept"
+    ) in text
     import csv
 
     from unified_manip.experiments.results import RESULT_COLUMNS
@@ -358,21 +470,36 @@ def test_report_ranks_reward_settings_and_sets_claims_beside_measurements(tmp_pa
     rows = _fixture_rows()
     for r in rows:  # relabel: ee_delta rows become "sac dense", joint_delta rows "ppo sparse"
         dense = r["action_mode"] == "ee_delta"
-        r.update(action_mode="ee_delta", algo="sac" if dense else "ppo", reward_type="dense" if dense else "sparse",
-                 run=r["run"].replace("sac_her", "sac" if dense else "ppo"))
+        r.update(
+            action_mode="ee_delta",
+            algo="sac" if dense else "ppo",
+            reward_type="dense" if dense else "sparse",
+            run=r["run"].replace("sac_her", "sac" if dense else "ppo"),
+        )
     bench = tmp_path / "bench"
     bench.mkdir()
     write_results(bench, rows)
-    claims = {"PPO, sparse reward": {"task": "UnifiedManip/Arm4Reach-v0", "algo": "ppo", "reward_type": "sparse",
-                                     "claimed": "~5%", "claimed_budget": "1M steps"}}
-    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims).read_text()
+    claims = {
+        "PPO, sparse reward": {
+            "task": "UnifiedManip/Arm4Reach-v0",
+            "algo": "ppo",
+            "reward_type": "sparse",
+            "claimed": "~5%",
+            "claimed_budget": "1M steps",
+        }
+    }
+    text = build_report(
+        bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims
+    ).read_text()
     assert "## Ranking of algorithm and reward settings" in text
     assert "| 1 | sac | dense | 0.50 | — |" in text
     assert "| 2 | ppo | sparse | 0.20 | 0.88 |" in text  # the same hand-computed 14/16 as above
     assert "| PPO, sparse reward | ~5% (1M steps) | 0.20 [" in text
     assert "(1,000 steps, 4 seeds) |" in text
     write_results(bench, [r for r in rows if r["algo"] == "sac" or r["seed"] == 0])  # one seed: no interval
-    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims).read_text()
+    text = build_report(
+        bench / "results.csv", tmp_path / "report", command="r", dense_check=False, claims=claims
+    ).read_text()
     assert "| PPO, sparse reward | ~5% (1M steps) | 0.10 (1,000 steps, 1 seed) |" in text
 
 

@@ -8,9 +8,18 @@ from unified_manip.experiments.targets import Target, TargetError, benchmark_tab
 
 
 def _row(seed: int, curve, wall: float = 3600.0, steps: int = 1000, mode: str = "ee_delta") -> dict:
-    return {"task": "UnifiedManip/Arm4Push-v0", "action_mode": mode, "algo": "sac_her", "reward_type": "sparse",
-            "seed": seed, "steps": steps, "final_success_rate": curve[-1][1], "curve": curve,
-            "wall_time_s": wall, "steps_per_s": steps / wall}
+    return {
+        "task": "UnifiedManip/Arm4Push-v0",
+        "action_mode": mode,
+        "algo": "sac_her",
+        "reward_type": "sparse",
+        "seed": seed,
+        "steps": steps,
+        "final_success_rate": curve[-1][1],
+        "curve": curve,
+        "wall_time_s": wall,
+        "steps_per_s": steps / wall,
+    }
 
 
 def test_steps_to_is_the_first_evaluation_reaching_the_threshold():
@@ -35,8 +44,11 @@ def test_table_marks_targets_and_scales_wall_time_by_the_steps_fraction():
 
 
 def test_a_missed_target_is_marked_no():
-    lines = benchmark_table([_row(0, [[1000, 0.4]])], (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9),),
-                            ci=lambda v: (float("nan"), float("nan")))
+    lines = benchmark_table(
+        [_row(0, [[1000, 0.4]])],
+        (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9),),
+        ci=lambda v: (float("nan"), float("nan")),
+    )
     cells = [c.strip() for c in lines[2].strip("|").split("|")]
     assert cells[6] == "0.40" and cells[8] == "no" and cells[9] == "—"
 
@@ -52,11 +64,17 @@ def test_a_mean_equal_to_the_target_is_met_despite_float_rounding():
     assert [c.strip() for c in just_below[2].strip("|").split("|")][8] == "no"
 
 
-@pytest.mark.parametrize("value,message", [
-    ({"task": "x"}, "targets must be a list of mappings with keys task, action_mode, success"),
-    ([{"task": "x", "action_mode": "ee_delta"}], "targets must be a list of mappings"),
-    ([{"task": "x", "action_mode": "ee_delta", "success": 1.5}], r"target success must be a number in \(0, 1\], got 1.5"),
-])
+@pytest.mark.parametrize(
+    "value,message",
+    [
+        ({"task": "x"}, "targets must be a list of mappings with keys task, action_mode, success"),
+        ([{"task": "x", "action_mode": "ee_delta"}], "targets must be a list of mappings"),
+        (
+            [{"task": "x", "action_mode": "ee_delta", "success": 1.5}],
+            r"target success must be a number in \(0, 1\], got 1.5",
+        ),
+    ],
+)
 def test_malformed_targets_are_refused(value, message):
     with pytest.raises(TargetError, match=message):
         parse_targets(value, "grid.yaml")

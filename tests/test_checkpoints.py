@@ -12,13 +12,17 @@ from gymnasium import spaces
 from stable_baselines3 import HerReplayBuffer
 from stable_baselines3.common.buffers import DictReplayBuffer, ReplayBuffer
 
-from unified_manip.training import checkpoints
-from unified_manip.training import replay_buffers
+from unified_manip.training import checkpoints, replay_buffers
 from unified_manip.training.runlock import DirectoryInUse, DirectoryLock, read_owner
 
 BOX = spaces.Box(-1, 1, (5,), np.float32)
-GOALS = spaces.Dict({"observation": BOX, "achieved_goal": spaces.Box(-1, 1, (3,), np.float32),
-                     "desired_goal": spaces.Box(-1, 1, (3,), np.float32)})
+GOALS = spaces.Dict(
+    {
+        "observation": BOX,
+        "achieved_goal": spaces.Box(-1, 1, (3,), np.float32),
+        "desired_goal": spaces.Box(-1, 1, (3,), np.float32),
+    }
+)
 ACTION = spaces.Box(-1, 1, (2,), np.float32)
 N_ENVS = 2
 
@@ -44,8 +48,14 @@ def fill(buffer, transitions: int, seed: int = 0) -> None:
     for t in range(transitions):
         done = np.full(N_ENVS, (t + 1) % 7 == 0)
         infos = [{"TimeLimit.truncated": bool(d), "step": t} for d in done]
-        buffer.add(obs(), obs(), rng.uniform(-1, 1, (N_ENVS, 2)).astype(np.float32),
-                   rng.standard_normal(N_ENVS).astype(np.float32), done, infos)
+        buffer.add(
+            obs(),
+            obs(),
+            rng.uniform(-1, 1, (N_ENVS, 2)).astype(np.float32),
+            rng.standard_normal(N_ENVS).astype(np.float32),
+            done,
+            infos,
+        )
 
 
 def assert_same_state(a, b) -> None:
@@ -101,8 +111,11 @@ def test_trimmed_buffer_is_a_fraction_of_the_whole_pickle(tmp_path):
     "target,message",
     [
         (lambda: make_buffer("her", 40), "capacity 40 x 2 envs saved, 20 x 2 expected (buffer_size or n_envs changed)"),
-        (lambda: make_buffer("dict", 80), "saved from a stable_baselines3.her.her_replay_buffer.HerReplayBuffer, "
-                                          "restoring into a stable_baselines3.common.buffers.DictReplayBuffer"),
+        (
+            lambda: make_buffer("dict", 80),
+            "saved from a stable_baselines3.her.her_replay_buffer.HerReplayBuffer, "
+            "restoring into a stable_baselines3.common.buffers.DictReplayBuffer",
+        ),
     ],
     ids=["capacity", "class"],
 )

@@ -55,7 +55,19 @@ def test_bad_input_is_one_line_and_exit_code_2():
 
 def test_speed_reports_env_and_raw_rates(tmp_path):
     out = tmp_path / "speed.json"
-    run("speed", "--env", "UnifiedManip/Arm4Reach-v0", "--modes", "joint_position,ee_delta", "--steps", "200", "--repeats", "1", "--json", str(out))
+    run(
+        "speed",
+        "--env",
+        "UnifiedManip/Arm4Reach-v0",
+        "--modes",
+        "joint_position,ee_delta",
+        "--steps",
+        "200",
+        "--repeats",
+        "1",
+        "--json",
+        str(out),
+    )
     rows = json.loads(out.read_text())["modes"]
     assert [r["action_mode"] for r in rows] == ["joint_position", "ee_delta"]
     for r in rows:
@@ -92,8 +104,19 @@ def _scripted_success(task_id: str, seed: int) -> bool:
 
 def test_speed_compares_native_mode_with_the_upstream_env(tmp_path):
     out = tmp_path / "speed.json"
-    proc = run("speed", "--env", "UnifiedManip/FetchReach-v0", "--modes", "native", "--steps", "100", "--repeats", "1",
-               "--json", str(out))
+    proc = run(
+        "speed",
+        "--env",
+        "UnifiedManip/FetchReach-v0",
+        "--modes",
+        "native",
+        "--steps",
+        "100",
+        "--repeats",
+        "1",
+        "--json",
+        str(out),
+    )
     (row,) = json.loads(out.read_text())["upstream"]
     assert row["task_id"] == "UnifiedManip/FetchReach-v0" and row["upstream"] == "FetchReach-v4"
     assert row["ours_steps_per_s"] > 0 and row["upstream_steps_per_s"] > 0

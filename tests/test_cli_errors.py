@@ -10,14 +10,21 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from unified_manip.training import hyperparams
-from unified_manip.experiments.results import RESULT_COLUMNS
 from unified_manip.cli import main
+from unified_manip.experiments.results import RESULT_COLUMNS
+from unified_manip.training import hyperparams
 
 TASK = "UnifiedManip/Arm4Reach-v0"
 TRAIN = ["train", "--env", TASK, "--algo", "sac", "--steps", "10", "--no-progress"]
-GRID = {"name": "g", "tasks": [TASK], "action_modes": ["ee_delta"], "reward_types": ["sparse"], "algos": ["sac"],
-        "seeds": [0], "steps": 10}
+GRID = {
+    "name": "g",
+    "tasks": [TASK],
+    "action_modes": ["ee_delta"],
+    "reward_types": ["sparse"],
+    "algos": ["sac"],
+    "seeds": [0],
+    "steps": 10,
+}
 
 
 def one_line_exit_2(argv: list[str], capsys) -> str:
@@ -41,91 +48,154 @@ def grid(tmp_path, **change) -> str:
 
 # Each case: (argv builder over tmp_path, expected line). "{t}" is tmp_path.
 CASES = {
-    "run-dir climbs out": (lambda t: TRAIN + ["--run-dir", "runs/../../elsewhere"],
-                           "unified-manip train: error: --run-dir 'runs/../../elsewhere' climbs out of its directory with '..'; "
-                           "expected a path without '..' (relative, or absolute)"),
-    "run-dir is a file": (lambda t: TRAIN + ["--run-dir", str(write(t / "f", "x"))],
-                          "unified-manip train: error: {t}/f is a file; expected a run directory (choose another --run-dir)"),
-    "run-dir is foreign": (lambda t: TRAIN + ["--run-dir", str(write(t / "d" / "notes.txt", "x").parent)],
-                           "unified-manip train: error: {t}/d exists and is not a unified-manip run directory; choose another --run-dir"),
+    "run-dir climbs out": (
+        lambda t: TRAIN + ["--run-dir", "runs/../../elsewhere"],
+        "unified-manip train: error: --run-dir 'runs/../../elsewhere' climbs out of its directory with '..'; "
+        "expected a path without '..' (relative, or absolute)",
+    ),
+    "run-dir is a file": (
+        lambda t: TRAIN + ["--run-dir", str(write(t / "f", "x"))],
+        "unified-manip train: error: {t}/f is a file; expected a run directory (choose another --run-dir)",
+    ),
+    "run-dir is foreign": (
+        lambda t: TRAIN + ["--run-dir", str(write(t / "d" / "notes.txt", "x").parent)],
+        "unified-manip train: error: {t}/d exists and is not a unified-manip run directory; choose another --run-dir",
+    ),
     "run-dir holds another run": (
         lambda t: TRAIN + ["--run-dir", str(write(t / "d" / "config.yaml", yaml.safe_dump({"env": TASK})).parent)],
         "unified-manip train: error: {t}/d holds a different run (it differs in env_kwargs, algo, steps, seed, n_envs, "
-        "hyperparameters); choose another --run-dir"),
+        "hyperparameters); choose another --run-dir",
+    ),
     "config.yaml not a mapping": (
         lambda t: TRAIN + ["--run-dir", str(write(t / "d" / "config.yaml", "- 1\n").parent)],
-        "unified-manip train: error: {t}/d/config.yaml:1: expected a run's settings (written by unified-manip train), got a list"),
-    "env kwarg not YAML": (lambda t: TRAIN + ["--run-dir", str(t / "r"), "--env-kwarg", "robot=["],
-                           "unified-manip train: error: argument --env-kwarg: 'robot=[': '[' is not a YAML literal"),
+        "unified-manip train: error: {t}/d/config.yaml:1: expected a run's settings (written by unified-manip train), got a list",
+    ),
+    "env kwarg not YAML": (
+        lambda t: TRAIN + ["--run-dir", str(t / "r"), "--env-kwarg", "robot=["],
+        "unified-manip train: error: argument --env-kwarg: 'robot=[': '[' is not a YAML literal",
+    ),
     "env kwarg refused by the task": (
         lambda t: TRAIN + ["--run-dir", str(t / "r"), "--env-kwarg", "robot=Panda"],
         "unified-manip train: error: cannot make UnifiedManip/Arm4Reach-v0 with {'action_mode': 'native', 'reward_type': "
-        "'sparse', 'robot': 'Panda'}: Arm4 tasks take no extra options, got ['robot']"),
+        "'sparse', 'robot': 'Panda'}: Arm4 tasks take no extra options, got ['robot']",
+    ),
     "hyperparameter file with a tag": (
         lambda t: TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "default:\n  learning_rate: !!float 1e-3\n"),
-        "unified-manip train: error: {t}/hp/sac.yaml:2: YAML tag '!!float' is not allowed; write plain literals"),
+        "unified-manip train: error: {t}/hp/sac.yaml:2: YAML tag '!!float' is not allowed; write plain literals",
+    ),
     "hyperparameter file not a mapping": (
         lambda t: TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "# a list\n- learning_rate: 0.001\n"),
-        "unified-manip train: error: {t}/hp/sac.yaml:2: expected a mapping of task IDs with a 'default' entry, got a list"),
+        "unified-manip train: error: {t}/hp/sac.yaml:2: expected a mapping of task IDs with a 'default' entry, got a list",
+    ),
     "hyperparameter entry not a mapping": (
-        lambda t: TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "default: {}\nUnifiedManip/Arm4Reach-v0: [1, 2]\n"),
+        lambda t: (
+            TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "default: {}\nUnifiedManip/Arm4Reach-v0: [1, 2]\n")
+        ),
         "unified-manip train: error: {t}/hp/sac.yaml:2: entry 'UnifiedManip/Arm4Reach-v0' must be a mapping of "
-        "hyperparameters, got list"),
+        "hyperparameters, got list",
+    ),
     "hyperparameter file not YAML": (
         lambda t: TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "default: {learning_rate: 0.001\n"),
-        "unified-manip train: error: {t}/hp/sac.yaml:2: not valid YAML (expected ',' or '}', but got '<stream end>')"),
-    "eval target missing": (lambda t: ["eval", str(t / "nope")],
-                            "unified-manip eval: error: {t}/nope does not exist; expected a run directory or a model .zip inside one"),
-    "eval outside a run": (lambda t: ["eval", str(t)],
-                           "unified-manip eval: error: {t} is not inside a unified-manip run directory (no config.yaml found)"),
+        "unified-manip train: error: {t}/hp/sac.yaml:2: not valid YAML (expected ',' or '}', but got '<stream end>')",
+    ),
+    "eval target missing": (
+        lambda t: ["eval", str(t / "nope")],
+        "unified-manip eval: error: {t}/nope does not exist; expected a run directory or a model .zip inside one",
+    ),
+    "eval outside a run": (
+        lambda t: ["eval", str(t)],
+        "unified-manip eval: error: {t} is not inside a unified-manip run directory (no config.yaml found)",
+    ),
     "eval a file that is not a model": (
         lambda t: ["eval", str(_run(t) / "config.yaml")],
-        "unified-manip eval: error: {t}/run/config.yaml is not a model; expected a run directory or a model .zip inside one"),
-    "eval a run without a model": (lambda t: ["eval", str(_run(t))],
-                                   "unified-manip eval: error: {t}/run has no model yet (no best, final or checkpoint model)"),
-    "eval video format": (lambda t: ["eval", str(t), "--video", "clip.avi"],
-                          "unified-manip eval: error: unsupported video format '.avi'; expected .mp4 or .gif"),
-    "eval episodes": (lambda t: ["eval", str(t), "--episodes", "0"],
-                      "unified-manip eval: error: argument --episodes: expected a positive integer, got '0'"),
-    "bench grid missing": (lambda t: ["bench", str(t / "nope.yaml")], "unified-manip bench: error: grid file {t}/nope.yaml not found"),
-    "bench grid not YAML": (lambda t: ["bench", str(write(t / "g.yaml", "tasks: [a\n"))],
-                            "unified-manip bench: error: {t}/g.yaml:2: not valid YAML (expected ',' or ']', but got '<stream end>')"),
-    "bench grid with a tag": (lambda t: ["bench", str(write(t / "g.yaml", "name: !!python/name:os.system\n"))],
-                              "unified-manip bench: error: {t}/g.yaml:1: YAML tag '!!python/name:os.system' is not allowed; "
-                              "write plain literals"),
-    "bench grid not a mapping": (lambda t: ["bench", str(write(t / "g.yaml", "[1, 2]\n"))],
-                                 "unified-manip bench: error: {t}/g.yaml:1: expected a mapping with keys tasks, action_modes, "
-                                 "reward_types, algos, seeds, steps, got a list"),
-    "bench grid name climbs out": (lambda t: ["bench", grid(t, name="../../etc")],
-                                   "unified-manip bench: error: {t}/grid.yaml: name '../../etc' must be a plain directory name "
-                                   "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>"),
-    "bench grid name absolute": (lambda t: ["bench", grid(t, name="/tmp/x")],
-                                 "unified-manip bench: error: {t}/grid.yaml: name '/tmp/x' must be a plain directory name "
-                                 "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>"),
-    "report results missing": (lambda t: ["report", str(t / "results.csv")],
-                               "unified-manip report: error: {t}/results.csv not found; expected a bench's results.csv"),
+        "unified-manip eval: error: {t}/run/config.yaml is not a model; expected a run directory or a model .zip inside one",
+    ),
+    "eval a run without a model": (
+        lambda t: ["eval", str(_run(t))],
+        "unified-manip eval: error: {t}/run has no model yet (no best, final or checkpoint model)",
+    ),
+    "eval video format": (
+        lambda t: ["eval", str(t), "--video", "clip.avi"],
+        "unified-manip eval: error: unsupported video format '.avi'; expected .mp4 or .gif",
+    ),
+    "eval episodes": (
+        lambda t: ["eval", str(t), "--episodes", "0"],
+        "unified-manip eval: error: argument --episodes: expected a positive integer, got '0'",
+    ),
+    "bench grid missing": (
+        lambda t: ["bench", str(t / "nope.yaml")],
+        "unified-manip bench: error: grid file {t}/nope.yaml not found",
+    ),
+    "bench grid not YAML": (
+        lambda t: ["bench", str(write(t / "g.yaml", "tasks: [a\n"))],
+        "unified-manip bench: error: {t}/g.yaml:2: not valid YAML (expected ',' or ']', but got '<stream end>')",
+    ),
+    "bench grid with a tag": (
+        lambda t: ["bench", str(write(t / "g.yaml", "name: !!python/name:os.system\n"))],
+        "unified-manip bench: error: {t}/g.yaml:1: YAML tag '!!python/name:os.system' is not allowed; "
+        "write plain literals",
+    ),
+    "bench grid not a mapping": (
+        lambda t: ["bench", str(write(t / "g.yaml", "[1, 2]\n"))],
+        "unified-manip bench: error: {t}/g.yaml:1: expected a mapping with keys tasks, action_modes, "
+        "reward_types, algos, seeds, steps, got a list",
+    ),
+    "bench grid name climbs out": (
+        lambda t: ["bench", grid(t, name="../../etc")],
+        "unified-manip bench: error: {t}/grid.yaml: name '../../etc' must be a plain directory name "
+        "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>",
+    ),
+    "bench grid name absolute": (
+        lambda t: ["bench", grid(t, name="/tmp/x")],
+        "unified-manip bench: error: {t}/grid.yaml: name '/tmp/x' must be a plain directory name "
+        "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>",
+    ),
+    "report results missing": (
+        lambda t: ["report", str(t / "results.csv")],
+        "unified-manip report: error: {t}/results.csv not found; expected a bench's results.csv",
+    ),
     "report results not a bench's": (
         lambda t: ["report", str(write(t / "results.csv", "run,task\na,b\n"))],
         "unified-manip report: error: {t}/results.csv: not a bench's results.csv; missing column(s) "
-        + ", ".join(RESULT_COLUMNS[2:])),
+        + ", ".join(RESULT_COLUMNS[2:]),
+    ),
     "report malformed row": (
-        lambda t: ["report", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n" + ",".join(["x"] * 12) + "\n"))],
-        "unified-manip report: error: {t}/results.csv:2: malformed row (invalid literal for int() with base 10: 'x')"),
+        lambda t: [
+            "report",
+            str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n" + ",".join(["x"] * 12) + "\n")),
+        ],
+        "unified-manip report: error: {t}/results.csv:2: malformed row (invalid literal for int() with base 10: 'x')",
+    ),
     "report claims with a tag": (
-        lambda t: ["report", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")), "--claims",
-                   str(write(t / "claims.yaml", "a: !!python/object:os.system {}\n"))],
-        "unified-manip report: error: {t}/claims.yaml:1: YAML tag '!!python/object:os.system' is not allowed; write plain literals"),
+        lambda t: [
+            "report",
+            str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")),
+            "--claims",
+            str(write(t / "claims.yaml", "a: !!python/object:os.system {}\n")),
+        ],
+        "unified-manip report: error: {t}/claims.yaml:1: YAML tag '!!python/object:os.system' is not allowed; write plain literals",
+    ),
     "report claims missing": (
-        lambda t: ["report", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")), "--claims", str(t / "c.yaml")],
-        "unified-manip report: error: {t}/c.yaml: file not found; expected a YAML file holding a mapping of claim labels"),
-    "plot figure type": (lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.jpg")],
-                         "unified-manip plot: error: argument --out: expected a figure path ending in .png, .svg, .pdf; "
-                         "got '{t}/f.jpg'"),
-    "plot results missing": (lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.png")],
-                             "unified-manip plot: error: {t}/results.csv not found; expected a bench's results.csv"),
+        lambda t: [
+            "report",
+            str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")),
+            "--claims",
+            str(t / "c.yaml"),
+        ],
+        "unified-manip report: error: {t}/c.yaml: file not found; expected a YAML file holding a mapping of claim labels",
+    ),
+    "plot figure type": (
+        lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.jpg")],
+        "unified-manip plot: error: argument --out: expected a figure path ending in .png, .svg, .pdf; got '{t}/f.jpg'",
+    ),
+    "plot results missing": (
+        lambda t: ["plot", str(t / "results.csv"), "--out", str(t / "f.png")],
+        "unified-manip plot: error: {t}/results.csv not found; expected a bench's results.csv",
+    ),
     "plot results empty": (
         lambda t: ["plot", str(write(t / "results.csv", ",".join(RESULT_COLUMNS) + "\n")), "--out", str(t / "f.png")],
-        "unified-manip plot: error: {t}/results.csv: no finished runs to plot"),
+        "unified-manip plot: error: {t}/results.csv: no finished runs to plot",
+    ),
 }
 
 
@@ -137,8 +207,17 @@ def _baselines(tmp_path, sac_yaml: str) -> list[str]:
 
 def _run(tmp_path):
     """A run directory with its config.yaml and nothing else yet."""
-    write(tmp_path / "run" / "config.yaml", yaml.safe_dump({"env": TASK, "algo": "sac", "env_kwargs": {
-        "action_mode": "ee_delta", "reward_type": "sparse"}, "hyperparameters": {}}))
+    write(
+        tmp_path / "run" / "config.yaml",
+        yaml.safe_dump(
+            {
+                "env": TASK,
+                "algo": "sac",
+                "env_kwargs": {"action_mode": "ee_delta", "reward_type": "sparse"},
+                "hyperparameters": {},
+            }
+        ),
+    )
     return tmp_path / "run"
 
 

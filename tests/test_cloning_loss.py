@@ -109,8 +109,10 @@ def test_the_sampled_loss_needs_a_stochastic_actor():
     from stable_baselines3 import TD3
 
     model = demonstrated_model(TD3, her=False)
-    with pytest.raises(CloningLossError, match="bc_sampled=true needs a stochastic actor .SAC, TQC, CrossQ.; "
-                                               "TD3's actor is deterministic"):
+    with pytest.raises(
+        CloningLossError,
+        match="bc_sampled=true needs a stochastic actor .SAC, TQC, CrossQ.; TD3's actor is deterministic",
+    ):
         attach(model, model.replay_buffer.size(), steps=100, weight=1.0, sampled=True)
 
 
@@ -119,8 +121,9 @@ def test_a_resumed_run_keeps_the_loss(tmp_path):
     100, so the loss in the log was computed by a hook the resumed run attached."""
     run = tmp_path / "run"
     settings = {"bc_steps": 0, "bc_weight": 1.0, "bc_q_filter": False, "bc_sampled": True}
-    interrupt_after_first_checkpoint(run, lambda: train(_request(run, **settings), progress=False, threads=1,
-                                                         log=lambda msg: None))
+    interrupt_after_first_checkpoint(
+        run, lambda: train(_request(run, **settings), progress=False, threads=1, log=lambda msg: None)
+    )
     assert not {"train/bc_loss", "train/bc_q_filter"} & tb_tags(run)
     record = json.loads((run / "demonstrations.json").read_text())
     assert record["cloning_loss_weight"] == 1.0 and record["cloning_loss_q_filter"] is False
@@ -157,17 +160,40 @@ def test_a_buffer_that_would_overwrite_the_demonstrations_is_refused():
     attach(model, demonstrated, steps=2000 - demonstrated, weight=1.0)
 
 
-@pytest.mark.parametrize("sets,message", [
-    (["demonstrations=0", "bc_weight=1"], "set demonstrations to 1 or more episodes"),
-    (["demonstrations=1", "bc_weight=1", "buffer_size=200"], "buffer_size must be at least"),
-    (["demonstrations=1", "bc_sampled=true"], "bc_sampled=true changes the cloning loss; set bc_weight above 0"),
-])
+@pytest.mark.parametrize(
+    "sets,message",
+    [
+        (["demonstrations=0", "bc_weight=1"], "set demonstrations to 1 or more episodes"),
+        (["demonstrations=1", "bc_weight=1", "buffer_size=200"], "buffer_size must be at least"),
+        (["demonstrations=1", "bc_sampled=true"], "bc_sampled=true changes the cloning loss; set bc_weight above 0"),
+    ],
+)
 def test_the_cli_refuses_in_one_line(tmp_path, sets, message):
     args = [a for s in sets for a in ("--set", s)]
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--action-mode", DEMO_MODE,
-         "--algo", "tqc_her", "--steps", "200", *args, "--set", "n_envs=1", "--run-dir", str(tmp_path / "r"), "--no-progress"],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "unified_manip.cli",
+            "train",
+            "--env",
+            DEMO_TASK,
+            "--action-mode",
+            DEMO_MODE,
+            "--algo",
+            "tqc_her",
+            "--steps",
+            "200",
+            *args,
+            "--set",
+            "n_envs=1",
+            "--run-dir",
+            str(tmp_path / "r"),
+            "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()

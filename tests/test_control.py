@@ -53,7 +53,8 @@ def test_joint_delta_targets_are_relative_to_the_measured_position():
         q_before = _qpos(rig)
         env.step(a)
         np.testing.assert_allclose(
-            backend.data.ctrl[rig.actuator_ids], np.clip(q_before + a[:4] * _config("joint_delta").max_delta, rig.lower, rig.upper)
+            backend.data.ctrl[rig.actuator_ids],
+            np.clip(q_before + a[:4] * _config("joint_delta").max_delta, rig.lower, rig.upper),
         )
         moved.append(_qpos(rig)[0] - q_before[0])
     assert all(m > 0 for m in moved)

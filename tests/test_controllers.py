@@ -54,7 +54,9 @@ def test_ee_target_delta_accumulates_the_site_target():
     start = backend.rig.site_position().copy()
     for k in range(1, 6):
         env.step(a)
-        np.testing.assert_allclose(backend.control.target, start + k * a[:3].astype(np.float64) * step, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(
+            backend.control.target, start + k * a[:3].astype(np.float64) * step, rtol=0, atol=1e-12
+        )
     ahead = backend.control.target[2] - backend.rig.site_position()[2]
     _, relative = _run(ARM, "ee_delta", a, 5)
     moved_target = backend.rig.site_position()[2] - start[2]
@@ -75,7 +77,9 @@ def test_joint_target_delta_accumulates_on_every_family(task_id):
         env.step(a)
     expected = start
     for _ in range(3):
-        expected = np.clip(expected + a[:n].astype(np.float64) * control.config.max_delta, control.rig.lower, control.rig.upper)
+        expected = np.clip(
+            expected + a[:n].astype(np.float64) * control.config.max_delta, control.rig.lower, control.rig.upper
+        )
     np.testing.assert_array_equal(control.target, expected)
     assert not np.array_equal(control.target, control.rig.joint_positions())
 
@@ -105,9 +109,15 @@ def test_joint_position_band_maps_the_box_around_the_reset_posture(task_id):
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"bnd": 0.5}, "unknown controller option 'bnd' for action_mode 'joint_position' (JointPosition); expected one of 'band'"),
-        ({"band:0.5": None}, "unknown controller option 'band:0.5' for action_mode 'joint_position' (JointPosition); "
-                             "expected one of 'band' (YAML reads 'band:0.5' as one name: write a space after the colon)"),
+        (
+            {"bnd": 0.5},
+            "unknown controller option 'bnd' for action_mode 'joint_position' (JointPosition); expected one of 'band'",
+        ),
+        (
+            {"band:0.5": None},
+            "unknown controller option 'band:0.5' for action_mode 'joint_position' (JointPosition); "
+            "expected one of 'band' (YAML reads 'band:0.5' as one name: write a space after the colon)",
+        ),
         ({"band": 0.0}, "JointPosition.band must be positive, got 0.0"),
         ({"band": [0.5, 0.5]}, "JointPosition.band has 2 entries; expected 1 or one per arm joint (4)"),
         ("band=0.5", "controller_options must be a mapping of parameter names to values, got 'band=0.5'"),
@@ -120,8 +130,11 @@ def test_bad_controller_options_fail_at_make_naming_the_choices(options, message
 
 
 def test_controller_options_on_a_mode_without_parameters_are_refused():
-    with pytest.raises(ValueError, match=r"action_mode 'native' here \(Native\) has no parameters; expected no "
-                                         r"controller_options, got \{'max_delta': 0.1\}"):
+    with pytest.raises(
+        ValueError,
+        match=r"action_mode 'native' here \(Native\) has no parameters; expected no "
+        r"controller_options, got \{'max_delta': 0.1\}",
+    ):
         make("UnifiedManip/FetchReach-v0", "native", controller_options={"max_delta": 0.1})
     # Where native is one of the shared configs (the arm's joint_delta), its parameters apply.
     env = make(ARM, "native", controller_options={"max_delta": 0.1})

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 from conftest import interrupt_after_first_checkpoint
 
-from unified_manip.training import checkpoints
 import unified_manip
+from unified_manip.training import checkpoints
 from unified_manip.training.demonstrations import DemonstrationError, check, episodes_per_env, policies, prefill
 from unified_manip.training.request import TrainRequest
 from unified_manip.training.train import train
@@ -36,8 +36,15 @@ def _model_and_env(task_id: str, n_envs: int, vec: str):
 
     kwargs = {"action_mode": "ee_delta", "reward_type": "sparse"}
     venv = make_vec_env(task_id, kwargs, n_envs, 7, None, vec)
-    model = TQC("MultiInputPolicy", make_vec_env(task_id, kwargs, n_envs, 0, None, vec), buffer_size=5000,
-                replay_buffer_class=HerReplayBuffer, learning_starts=10, batch_size=16, seed=0)
+    model = TQC(
+        "MultiInputPolicy",
+        make_vec_env(task_id, kwargs, n_envs, 0, None, vec),
+        buffer_size=5000,
+        replay_buffer_class=HerReplayBuffer,
+        learning_starts=10,
+        batch_size=16,
+        seed=0,
+    )
     return model, venv
 
 
@@ -61,7 +68,7 @@ def test_prefill_stores_whole_scripted_episodes_consistent_with_the_reward(task_
     expected = env.unwrapped.compute_reward(ag, dg, [{}] * len(ag))
     np.testing.assert_allclose(buffer.rewards[:rows].reshape(-1), expected, atol=1e-6)
     # The reported success is the fraction of episodes whose last step met the goal.
-    last = buffer.rewards[horizon - 1:rows:horizon].reshape(-1)
+    last = buffer.rewards[horizon - 1 : rows : horizon].reshape(-1)
     assert done["success"] == pytest.approx(float(np.mean(last == 0.0)))
     assert done["success"] >= 0.5  # the scripted policy solves most episodes (>= 0.9 over 100)
     assert np.all(np.abs(buffer.actions[:rows]) <= 1.0)
@@ -142,11 +149,25 @@ def _dummy(task_id: str, mode: str, n_envs: int):
 
 
 def _request(run_dir: Path, algo: str = "tqc_her", mode: str = "ee_delta", **overrides) -> TrainRequest:
-    settings = {"demonstrations": 2, "learning_starts": 50, "batch_size": 32, "eval_freq": 1000,
-                "n_eval_episodes": 1, "checkpoint_freq": 200, "n_envs": 1}
+    settings = {
+        "demonstrations": 2,
+        "learning_starts": 50,
+        "batch_size": 32,
+        "eval_freq": 1000,
+        "n_eval_episodes": 1,
+        "checkpoint_freq": 200,
+        "n_envs": 1,
+    }
     settings.update(overrides)
-    return TrainRequest(env=ARM, action_mode=mode, reward_type="sparse", algo=algo, steps=300,
-                        run_dir=run_dir, overrides=tuple(f"{k}={v}" for k, v in settings.items()))
+    return TrainRequest(
+        env=ARM,
+        action_mode=mode,
+        reward_type="sparse",
+        algo=algo,
+        steps=300,
+        run_dir=run_dir,
+        overrides=tuple(f"{k}={v}" for k, v in settings.items()),
+    )
 
 
 def _buffer_rows(path: Path) -> int:
@@ -183,7 +204,9 @@ def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
     again: list[str] = []
     train(_request(run), progress=False, threads=1, log=again.append)
     assert not any("demonstration episodes" in line for line in again)
-    assert any(f"resuming from step {step} of 300 on cpu with {200 + step} transitions" in line for line in again), again
+    assert any(f"resuming from step {step} of 300 on cpu with {200 + step} transitions" in line for line in again), (
+        again
+    )
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
@@ -227,11 +250,29 @@ def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controll
     import yaml
 
     run = tmp_path / "run"
-    settings = ("n_envs=1", "learning_starts=1000", "buffer_size=2000", "eval_freq=1000", "n_eval_episodes=1",
-                "checkpoint_freq=1000")
+    settings = (
+        "n_envs=1",
+        "learning_starts=1000",
+        "buffer_size=2000",
+        "eval_freq=1000",
+        "n_eval_episodes=1",
+        "checkpoint_freq=1000",
+    )
     logs: list[str] = []
-    status = train(TrainRequest(env="UnifiedManip/Lift-v0", action_mode="native", reward_type="sparse", algo="tqc_her",
-                                steps=20, run_dir=run, overrides=settings), progress=False, threads=1, log=logs.append)
+    status = train(
+        TrainRequest(
+            env="UnifiedManip/Lift-v0",
+            action_mode="native",
+            reward_type="sparse",
+            algo="tqc_her",
+            steps=20,
+            run_dir=run,
+            overrides=settings,
+        ),
+        progress=False,
+        threads=1,
+        log=logs.append,
+    )
     assert status["state"] == "finished"
     config = yaml.safe_load((run / "config.yaml").read_text())
     assert config["hyperparameters"]["demonstrations"] == 0
@@ -243,8 +284,14 @@ def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controll
     "algo,task_id,mode,episodes,message",
     [
         ("ppo", ARM, "ee_delta", 2, "demonstrations go into a replay buffer; use an off-policy algorithm (sac, td3, "),
-        ("tqc_her", FETCH, "native", 2, "action_mode 'native' is the source's own controller, which the scripted "
-                                         "ee_delta policy cannot drive; use one of joint_torque, "),
+        (
+            "tqc_her",
+            FETCH,
+            "native",
+            2,
+            "action_mode 'native' is the source's own controller, which the scripted "
+            "ee_delta policy cannot drive; use one of joint_torque, ",
+        ),
         ("sac_her", "UnifiedManip/HandReach-v0", "native", 2, "UnifiedManip/HandReach-v0 has no scripted policy"),
         ("tqc_her", ARM, "ee_delta", -1, "demonstrations must be a number of episodes, 0 or more; got -1"),
     ],
@@ -263,9 +310,26 @@ def test_the_cli_refuses_demonstrations_for_ppo_in_one_line(tmp_path):
     import sys
 
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", ARM, "--algo", "ppo", "--steps", "10",
-         "--set", "demonstrations=5", "--run-dir", str(tmp_path / "r"), "--no-progress"],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "unified_manip.cli",
+            "train",
+            "--env",
+            ARM,
+            "--algo",
+            "ppo",
+            "--steps",
+            "10",
+            "--set",
+            "demonstrations=5",
+            "--run-dir",
+            str(tmp_path / "r"),
+            "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()

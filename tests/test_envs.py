@@ -198,7 +198,10 @@ def test_subproc_vec_env_of_two(task_id):
 
     # "module:ID" makes each worker import unified_manip, which registers the IDs.
     vec = make_vec_env(
-        f"unified_manip:{task_id}", n_envs=2, seed=0, vec_env_cls=SubprocVecEnv,
+        f"unified_manip:{task_id}",
+        n_envs=2,
+        seed=0,
+        vec_env_cls=SubprocVecEnv,
         env_kwargs={"action_mode": smoke_mode(task_id)},
     )
     try:
@@ -209,7 +212,9 @@ def test_subproc_vec_env_of_two(task_id):
         assert rewards.shape == (2,) and len(infos) == 2 and "is_success" in infos[0]
         # The two workers were seeded differently.
         assert not np.array_equal(obs["desired_goal"][0], obs["desired_goal"][1])
-        rewards = vec.env_method("compute_reward", obs["achieved_goal"], obs["desired_goal"], np.array(infos), indices=[0])[0]
+        rewards = vec.env_method(
+            "compute_reward", obs["achieved_goal"], obs["desired_goal"], np.array(infos), indices=[0]
+        )[0]
         assert rewards.shape == (2,)
     finally:
         vec.close()

@@ -28,10 +28,10 @@ import pytest
 import yaml
 
 import unified_manip
-from unified_manip.training import checkpoints
+from unified_manip.envs.registry import TASKS, register_task
 from unified_manip.experiments.grid import load_grid
 from unified_manip.experiments.results import read_results
-from unified_manip.envs.registry import TASKS, register_task
+from unified_manip.training import checkpoints
 from unified_manip.training.runlock import read_owner
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,8 +41,23 @@ NO_LEARNING = ["learning_starts=100000", "buffer_size=5000", "policy_kwargs.net_
 
 def train_args(run_dir: Path, steps: int, extra: tuple[str, ...] = ("eval_freq=100000",)) -> list[str]:
     sets = [a for s in NO_LEARNING + list(extra) for a in ("--set", s)]
-    return ["train", "--env", TASK, "--action-mode", "ee_delta", "--algo", "sac_her", "--steps", str(steps),
-            "--run-dir", str(run_dir), "--no-progress", "--device", "cpu", *sets]
+    return [
+        "train",
+        "--env",
+        TASK,
+        "--action-mode",
+        "ee_delta",
+        "--algo",
+        "sac_her",
+        "--steps",
+        str(steps),
+        "--run-dir",
+        str(run_dir),
+        "--no-progress",
+        "--device",
+        "cpu",
+        *sets,
+    ]
 
 
 def cli(*args: str, pause: int | None = None, wait: bool = True):
@@ -77,8 +92,10 @@ def assert_one_line_error(proc, message: str) -> None:
 
 
 def in_use(what: str, directory: Path, pid: int) -> str:
-    return (rf"unified-manip \w+: error: {what} {re.escape(str(directory))} is in use by pid {pid} "
-            rf"on host {re.escape(socket.gethostname())} \(started \d{{4}}-\d\d-\d\d \d\d:\d\d:\d\d\)")
+    return (
+        rf"unified-manip \w+: error: {what} {re.escape(str(directory))} is in use by pid {pid} "
+        rf"on host {re.escape(socket.gethostname())} \(started \d{{4}}-\d\d-\d\d \d\d:\d\d:\d\d\)"
+    )
 
 
 # ---------------------------------------------------------------------- ownership
@@ -156,11 +173,14 @@ def test_no_loadable_checkpoint_is_one_line_and_restart_starts_over(killed_in_th
         os.truncate(run_dir / "checkpoints" / f"{step:012d}" / checkpoints.MODEL, 10)
     proc = cli(*train_args(run_dir, 800))
     ckpt = re.escape(str(run_dir / "checkpoints"))
-    assert_one_line_error(proc, (
-        rf"unified-manip train: error: {re.escape(str(run_dir))}: no checkpoint loads \({ckpt}/000000000400/model.zip: "
-        rf"10 bytes, .*; {ckpt}/000000000200/model.zip: 10 bytes, .*\); run the same command with --restart to start "
-        r"over from step 0"
-    ))
+    assert_one_line_error(
+        proc,
+        (
+            rf"unified-manip train: error: {re.escape(str(run_dir))}: no checkpoint loads \({ckpt}/000000000400/model.zip: "
+            rf"10 bytes, .*; {ckpt}/000000000200/model.zip: 10 bytes, .*\); run the same command with --restart to start "
+            r"over from step 0"
+        ),
+    )
     proc = cli(*train_args(run_dir, 800), "--restart")
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.splitlines()[0] == f"{run_dir}: restarting from step 0"
@@ -176,8 +196,9 @@ def test_a_run_checkpointed_in_the_earlier_one_file_layout_still_resumes(killed_
     run_dir = copy_of(killed_in_third_checkpoint, tmp_path)
     root = run_dir / "checkpoints"
     ckpt = checkpoints.newest(run_dir)
-    env = VecNormalize.load(str(ckpt.path(checkpoints.VECNORMALIZE)),
-                            DummyVecEnv([lambda: gym.make(TASK, action_mode="ee_delta")]))
+    env = VecNormalize.load(
+        str(ckpt.path(checkpoints.VECNORMALIZE)), DummyVecEnv([lambda: gym.make(TASK, action_mode="ee_delta")])
+    )
     model = SAC.load(ckpt.path(checkpoints.MODEL), env=env)
     checkpoints.restore_replay_buffer(model, ckpt)
     model.save(root / "model_400.zip")
@@ -185,8 +206,16 @@ def test_a_run_checkpointed_in_the_earlier_one_file_layout_still_resumes(killed_
     env.save(str(root / "vecnormalize_400.pkl"))
     for c in checkpoints.published(run_dir):
         shutil.rmtree(c.directory)
-    (root / "latest.json").write_text(json.dumps({"num_timesteps": 400, "model": "model_400.zip", "replay_buffer":
-                                                  "replay_buffer_400.pkl", "vecnormalize": "vecnormalize_400.pkl"}))
+    (root / "latest.json").write_text(
+        json.dumps(
+            {
+                "num_timesteps": 400,
+                "model": "model_400.zip",
+                "replay_buffer": "replay_buffer_400.pkl",
+                "vecnormalize": "vecnormalize_400.pkl",
+            }
+        )
+    )
     proc = cli(*train_args(run_dir, 800))
     assert proc.returncode == 0, proc.stderr
     assert f"{run_dir}: resuming from step 400 of 800 on cpu with 400 transitions in the replay buffer" in proc.stdout
@@ -194,8 +223,16 @@ def test_a_run_checkpointed_in_the_earlier_one_file_layout_still_resumes(killed_
 
 # ---------------------------------------------------------------------- benches
 GRID = {
-    "name": "faults", "tasks": [TASK], "action_modes": ["ee_delta"], "reward_types": ["sparse"], "algos": ["sac_her"],
-    "seeds": [0], "steps": 600, "eval_freq": 200, "n_eval_episodes": 1, "overrides": {"sac_her": NO_LEARNING},
+    "name": "faults",
+    "tasks": [TASK],
+    "action_modes": ["ee_delta"],
+    "reward_types": ["sparse"],
+    "algos": ["sac_her"],
+    "seeds": [0],
+    "steps": 600,
+    "eval_freq": 200,
+    "n_eval_episodes": 1,
+    "overrides": {"sac_her": NO_LEARNING},
 }
 
 
@@ -220,8 +257,21 @@ def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
     grid = _write(tmp_path / "grid.yaml", dict(GRID, steps=800))
     out = tmp_path / "out"
     run_dir = out / "runs" / load_grid(grid).runs[0].name
-    bench = cli("bench", str(grid), "--out", str(out), "--executor", "ray", "--workers", "1", "--retries", "1",
-                "--no-progress", pause=2, wait=False)  # each Ray worker holds its second checkpoint
+    bench = cli(
+        "bench",
+        str(grid),
+        "--out",
+        str(out),
+        "--executor",
+        "ray",
+        "--workers",
+        "1",
+        "--retries",
+        "1",
+        "--no-progress",
+        pause=2,
+        wait=False,
+    )  # each Ray worker holds its second checkpoint
     try:
         wait_for(lambda: (run_dir / "checkpoints" / f"{400:012d}" / "PAUSED").exists(), bench)  # 200 is complete
         os.kill(read_owner(run_dir)["pid"], signal.SIGKILL)  # the Ray worker that trains the run, mid-checkpoint
@@ -284,8 +334,12 @@ class DivergesOnStep:
 def diverging_task():
     """``UnifiedManip/ArmDiverges-v0``, registered for this test only."""
     base = TASKS[TASK]
-    spec = dataclasses.replace(base, name="ArmDiverges", family="test",
-                               make_backend=lambda config: DivergesOnStep(base.make_backend(config), k=130))
+    spec = dataclasses.replace(
+        base,
+        name="ArmDiverges",
+        family="test",
+        make_backend=lambda config: DivergesOnStep(base.make_backend(config), k=130),
+    )
     register_task(spec)
     try:
         yield spec.id
@@ -299,8 +353,16 @@ def test_diverging_physics_ends_the_episode_and_writes_no_nan(diverging_task, tm
     from unified_manip.training.train import TrainRequest, train
 
     run_dir = tmp_path / "run"
-    req = TrainRequest(env=diverging_task, action_mode="ee_delta", reward_type="sparse", algo="sac_her", steps=300,
-                       run_dir=run_dir, overrides=tuple(NO_LEARNING + ["eval_freq=100000"]), device="cpu")
+    req = TrainRequest(
+        env=diverging_task,
+        action_mode="ee_delta",
+        reward_type="sparse",
+        algo="sac_her",
+        steps=300,
+        run_dir=run_dir,
+        overrides=tuple(NO_LEARNING + ["eval_freq=100000"]),
+        device="cpu",
+    )
     assert train(req, progress=False, log=lambda msg: None)["num_timesteps"] == 300
     import pandas as pd
 

@@ -7,10 +7,10 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
+from conftest import smoke_mode
 from stable_baselines3 import SAC, HerReplayBuffer
 
 import unified_manip
-from conftest import smoke_mode
 
 HER_IDS = list(unified_manip.TASKS)
 
@@ -40,7 +40,9 @@ def test_sac_her_smoke_run(task_id):
     batch = buffer.sample(512)
     next_ag = batch.next_observations["achieved_goal"].numpy()
     dg = batch.observations["desired_goal"].numpy()
-    expected = -(spec.goal_distance(next_ag.astype(np.float64), dg.astype(np.float64)) >= spec.distance_threshold).astype(np.float32)
+    expected = -(
+        spec.goal_distance(next_ag.astype(np.float64), dg.astype(np.float64)) >= spec.distance_threshold
+    ).astype(np.float32)
     np.testing.assert_array_equal(batch.rewards.numpy().ravel(), expected)
     assert (expected == 0.0).mean() > 0.05  # some relabelled goals were reached
     action, _ = model.predict(env.reset(seed=0)[0], deterministic=True)

@@ -21,9 +21,17 @@ def _crossq_model():
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     env = DummyVecEnv([lambda: gym.make("UnifiedManip/Arm4Reach-v0", action_mode="ee_delta")])
-    return crossq.CrossQ("MultiInputPolicy", env, replay_buffer_class=crossq.CatDictHerReplayBuffer,
-                         buffer_size=1000, learning_starts=500, batch_size=8,
-                         policy_kwargs={"net_arch": {"pi": [8], "qf": [8]}}, device="cpu", seed=0), env
+    return crossq.CrossQ(
+        "MultiInputPolicy",
+        env,
+        replay_buffer_class=crossq.CatDictHerReplayBuffer,
+        buffer_size=1000,
+        learning_starts=500,
+        batch_size=8,
+        policy_kwargs={"net_arch": {"pi": [8], "qf": [8]}},
+        device="cpu",
+        seed=0,
+    ), env
 
 
 def _as_saved_before_the_move(monkeypatch):

@@ -73,8 +73,9 @@ def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path
     record = json.loads((run / "demonstrations.json").read_text())["offline"]
     assert record["steps"] == 30
     for values in (record["first"], record["last"]):
-        assert {"train/critic_loss", "train/actor_loss", "train/bc_loss", "train/bc_q_filter",
-                "train/bc_error"} <= set(values)
+        assert {"train/critic_loss", "train/actor_loss", "train/bc_loss", "train/bc_q_filter", "train/bc_error"} <= set(
+            values
+        )
         assert 0.0 <= values["train/bc_q_filter"] <= 1.0 and np.isfinite(list(values.values())).all()
     assert sum("30 offline steps of tqc_her on the demonstrations alone (critic loss" in line for line in first) == 1
     again = resume_to_the_end(_request(run))

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from unified_manip.experiments.results import read_results
 from unified_manip.cli import main
 from unified_manip.experiments.figures import curve_band
+from unified_manip.experiments.results import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHES = [ROOT / "baselines" / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]

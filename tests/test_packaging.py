@@ -38,8 +38,7 @@ def test_every_package_is_listed_in_pyproject():
 
 def test_import_registers_every_id_without_loading_a_simulator():
     out = _python(
-        "import sys, unified_manip\n"
-        f"print(len(unified_manip.TASKS), [m for m in {HEAVY!r} if m in sys.modules])"
+        f"import sys, unified_manip\nprint(len(unified_manip.TASKS), [m for m in {HEAVY!r} if m in sys.modules])"
     )
     assert out.split(maxsplit=1) == [str(len(unified_manip.TASKS)), "[]\n"]
 
@@ -70,8 +69,12 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     work.mkdir()
     _copy_source(src)
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
-    subprocess.run([*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
-                   check=True, capture_output=True, timeout=300)
+    subprocess.run(
+        [*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
     (wheel,) = dist.glob("unified_manip-*.whl")
     # A fresh venv that sees this venv's third-party packages (no download) through a
     # .pth line. Only a site directory's own .pth files run, so this venv's editable
@@ -81,18 +84,48 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     site = _python("import sysconfig; print(sysconfig.get_paths()['purelib'])", python=python).strip()
     deps = [p for p in sys.path if p.endswith("site-packages")]  # this venv's and any it chains to
     Path(site, "_checkout_deps.pth").write_text("\n".join(deps) + "\n")
-    subprocess.run([*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
-                   check=True, capture_output=True, timeout=300)
+    subprocess.run(
+        [*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
 
-    where = _python("import unified_manip, unified_manip.training.hyperparams as h; print(unified_manip.__file__); "
-                    "print(h.DEFAULT_DIR)", cwd=work, python=python).splitlines()
+    where = _python(
+        "import unified_manip, unified_manip.training.hyperparams as h; print(unified_manip.__file__); "
+        "print(h.DEFAULT_DIR)",
+        cwd=work,
+        python=python,
+    ).splitlines()
     assert all(line.startswith(site) for line in where), where
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     proc = subprocess.run(
-        [str(venv / "bin" / "unified-manip"), "train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac_her",
-         "--action-mode", "ee_delta", "--steps", "200", "--set", "learning_starts=100", "--set", "buffer_size=1000",
-         "--run-dir", "run", "--no-progress", "--device", "cpu"],
-        cwd=work, env=env, capture_output=True, text=True, timeout=600,
+        [
+            str(venv / "bin" / "unified-manip"),
+            "train",
+            "--env",
+            "UnifiedManip/Arm4Reach-v0",
+            "--algo",
+            "sac_her",
+            "--action-mode",
+            "ee_delta",
+            "--steps",
+            "200",
+            "--set",
+            "learning_starts=100",
+            "--set",
+            "buffer_size=1000",
+            "--run-dir",
+            "run",
+            "--no-progress",
+            "--device",
+            "cpu",
+        ],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     status = json.loads((work / "run" / "status.json").read_text())

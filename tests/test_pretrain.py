@@ -23,6 +23,7 @@ from unified_manip.training.pretrain import PretrainError, behaviour_clone, chec
 from unified_manip.training.request import TrainRequest
 from unified_manip.training.train import train
 
+
 def _action_error(model) -> float:
     """Mean absolute difference between the actor's deterministic actions and the stored
     (demonstrated) ones, over every stored row, with the stored goals."""
@@ -68,11 +69,26 @@ def test_a_normalising_runs_statistics_start_from_the_demonstrations():
 
 
 def _request(run_dir, **overrides) -> TrainRequest:
-    settings = {"demonstrations": 2, "bc_steps": 20, "learning_starts": 50, "batch_size": 32, "eval_freq": 1000,
-                "n_eval_episodes": 1, "checkpoint_freq": 100, "n_envs": 1}
+    settings = {
+        "demonstrations": 2,
+        "bc_steps": 20,
+        "learning_starts": 50,
+        "batch_size": 32,
+        "eval_freq": 1000,
+        "n_eval_episodes": 1,
+        "checkpoint_freq": 100,
+        "n_envs": 1,
+    }
     settings.update(overrides)
-    return TrainRequest(env=DEMO_TASK, action_mode=DEMO_MODE, reward_type="sparse", algo="tqc_her", steps=200,
-                        run_dir=run_dir, overrides=tuple(f"{k}={v}" for k, v in settings.items()))
+    return TrainRequest(
+        env=DEMO_TASK,
+        action_mode=DEMO_MODE,
+        reward_type="sparse",
+        algo="tqc_her",
+        steps=200,
+        run_dir=run_dir,
+        overrides=tuple(f"{k}={v}" for k, v in settings.items()),
+    )
 
 
 def test_a_run_clones_once_and_records_it(tmp_path):
@@ -92,14 +108,26 @@ def test_a_run_clones_once_and_records_it(tmp_path):
 @pytest.mark.parametrize(
     "settings,error,message",
     [
-        ({"bc_steps": 10, "demonstrations": 0}, PretrainError,
-         "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes"),
-        ({"bc_steps": -1, "demonstrations": 5}, PretrainError,
-         "bc_steps must be a number of gradient steps, 0 or more; got -1"),
-        ({"offline_steps": 10, "demonstrations": 0}, OfflineError,
-         "offline_steps=10 learns from the demonstrations alone; set demonstrations to 1 or more episodes"),
-        ({"offline_steps": -1, "demonstrations": 5}, OfflineError,
-         "offline_steps must be a number of gradient steps, 0 or more; got -1"),
+        (
+            {"bc_steps": 10, "demonstrations": 0},
+            PretrainError,
+            "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes",
+        ),
+        (
+            {"bc_steps": -1, "demonstrations": 5},
+            PretrainError,
+            "bc_steps must be a number of gradient steps, 0 or more; got -1",
+        ),
+        (
+            {"offline_steps": 10, "demonstrations": 0},
+            OfflineError,
+            "offline_steps=10 learns from the demonstrations alone; set demonstrations to 1 or more episodes",
+        ),
+        (
+            {"offline_steps": -1, "demonstrations": 5},
+            OfflineError,
+            "offline_steps must be a number of gradient steps, 0 or more; got -1",
+        ),
     ],
 )
 def test_pretraining_without_demonstrations_is_refused(settings, error, message):
@@ -114,9 +142,28 @@ def test_pretraining_without_demonstrations_is_refused(settings, error, message)
 @pytest.mark.parametrize("key", ["bc_steps", "offline_steps"])
 def test_the_cli_refuses_pretraining_without_demonstrations_in_one_line(tmp_path, key):
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", "train", "--env", DEMO_TASK, "--algo", "tqc_her", "--steps", "10",
-         "--set", "demonstrations=0", "--set", f"{key}=100", "--run-dir", str(tmp_path / "r"), "--no-progress"],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "unified_manip.cli",
+            "train",
+            "--env",
+            DEMO_TASK,
+            "--algo",
+            "tqc_her",
+            "--steps",
+            "10",
+            "--set",
+            "demonstrations=0",
+            "--set",
+            f"{key}=100",
+            "--run-dir",
+            str(tmp_path / "r"),
+            "--no-progress",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()

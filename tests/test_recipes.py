@@ -21,8 +21,9 @@ GPU = torch.cuda.is_available()
 
 
 def cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True,
-                          timeout=900, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=900, cwd=ROOT
+    )
 
 
 # ---------------------------------------------------------------------- device
@@ -36,17 +37,26 @@ def test_unknown_device_names_the_choices():
         resolve_device("tpu")
 
 
-@pytest.mark.parametrize("command", [
-    ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac", "--steps", "10"],
-    ["eval", "runs/none"],
-    ["bench", "baselines/grids/action_spaces.yaml"],
-])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac", "--steps", "10"],
+        ["eval", "runs/none"],
+        ["bench", "baselines/grids/action_spaces.yaml"],
+    ],
+)
 def test_bad_device_is_one_line_exit_2(command, tmp_path):
     proc = cli(*command, "--device", "gpu")
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
     assert "argument --device: invalid choice: 'gpu' (choose from 'auto', 'cpu', 'cuda')" in proc.stderr
     if not GPU:  # this machine: cuda is refused before anything is written
-        out = ["--run-dir", str(tmp_path / "r")] if command[0] == "train" else ["--out", str(tmp_path / "b")] if command[0] == "bench" else []
+        out = (
+            ["--run-dir", str(tmp_path / "r")]
+            if command[0] == "train"
+            else ["--out", str(tmp_path / "b")]
+            if command[0] == "bench"
+            else []
+        )
         proc = cli(*command, *out, "--device", "cuda")
         assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
         assert "device 'cuda' requested but torch sees no GPU here; use --device cpu or auto" in proc.stderr
@@ -58,9 +68,26 @@ def test_device_is_recorded_and_not_compared_on_resume(tmp_path):
     """A run records where it started; the same run asked for on another device is the
     same run (here cpu, then auto, which is cpu on a machine without a GPU)."""
     run_dir = tmp_path / "run"
-    args = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "ee_delta", "--algo", "sac_her",
-            "--steps", "200", "--run-dir", str(run_dir), "--no-progress", "--set", "learning_starts=100",
-            "--set", "batch_size=32", "--set", "eval_freq=1000"]
+    args = [
+        "train",
+        "--env",
+        "UnifiedManip/Arm4Reach-v0",
+        "--action-mode",
+        "ee_delta",
+        "--algo",
+        "sac_her",
+        "--steps",
+        "200",
+        "--run-dir",
+        str(run_dir),
+        "--no-progress",
+        "--set",
+        "learning_starts=100",
+        "--set",
+        "batch_size=32",
+        "--set",
+        "eval_freq=1000",
+    ]
     first = cli(*args, "--device", "cpu")
     assert first.returncode == 0, first.stderr
     config = yaml.safe_load((run_dir / "config.yaml").read_text())
@@ -77,7 +104,9 @@ def test_every_hyperparameter_entry_loads_and_type_checks(algo):
     for entry in entries:  # "<task ID>" or "<task ID> <action mode>"
         task_id, mode = split_entry(entry)
         assert task_id in unified_manip.TASKS, f"{algo}.yaml has an entry for unknown task {task_id}"
-        assert mode is None or mode in unified_manip.TASKS[task_id].action_modes, f"{algo}.yaml: unknown mode in {entry!r}"
+        assert mode is None or mode in unified_manip.TASKS[task_id].action_modes, (
+            f"{algo}.yaml: unknown mode in {entry!r}"
+        )
         # raises on an unknown key or a wrong type
         params = resolve(algo, task_id, action_mode=mode)
         assert params["policy"] == "MultiInputPolicy"
@@ -93,24 +122,44 @@ def test_every_committed_grid_loads(grid):
 # ---------------------------------------------------------------------- per-task budgets
 def _grid(tmp_path: Path, steps) -> Path:
     path = tmp_path / "g.yaml"
-    path.write_text(yaml.safe_dump({
-        "tasks": ["UnifiedManip/Arm4Reach-v0", "UnifiedManip/FetchReach-v0"], "action_modes": ["ee_delta"],
-        "reward_types": ["sparse"], "algos": ["sac_her"], "seeds": [0], "steps": steps,
-    }))
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "tasks": ["UnifiedManip/Arm4Reach-v0", "UnifiedManip/FetchReach-v0"],
+                "action_modes": ["ee_delta"],
+                "reward_types": ["sparse"],
+                "algos": ["sac_her"],
+                "seeds": [0],
+                "steps": steps,
+            }
+        )
+    )
     return path
 
 
 def test_a_grid_may_give_each_task_its_own_budget(tmp_path):
     grid = load_grid(_grid(tmp_path, {"default": 1000, "UnifiedManip/FetchReach-v0": 3000}))
-    assert {r.task: r.steps for r in grid.runs} == {"UnifiedManip/Arm4Reach-v0": 1000, "UnifiedManip/FetchReach-v0": 3000}
+    assert {r.task: r.steps for r in grid.runs} == {
+        "UnifiedManip/Arm4Reach-v0": 1000,
+        "UnifiedManip/FetchReach-v0": 3000,
+    }
 
 
-@pytest.mark.parametrize("steps,message", [
-    ({"UnifiedManip/Lift-v0": 10, "default": 5}, "steps names 'UnifiedManip/Lift-v0', which is not one of the grid's tasks"),
-    ({"UnifiedManip/Arm4Reach-v0": 10}, "steps gives no value for 'UnifiedManip/FetchReach-v0'; add it or a 'default'"),
-    ({"default": -1}, "steps for 'default' must be a positive integer, got -1"),
-    ("many", "steps must be a positive integer, got 'many'"),
-])
+@pytest.mark.parametrize(
+    "steps,message",
+    [
+        (
+            {"UnifiedManip/Lift-v0": 10, "default": 5},
+            "steps names 'UnifiedManip/Lift-v0', which is not one of the grid's tasks",
+        ),
+        (
+            {"UnifiedManip/Arm4Reach-v0": 10},
+            "steps gives no value for 'UnifiedManip/FetchReach-v0'; add it or a 'default'",
+        ),
+        ({"default": -1}, "steps for 'default' must be a positive integer, got -1"),
+        ("many", "steps must be a positive integer, got 'many'"),
+    ],
+)
 def test_bad_budgets_are_refused(tmp_path, steps, message):
     from unified_manip.experiments.grid import GridError
 
@@ -120,10 +169,19 @@ def test_bad_budgets_are_refused(tmp_path, steps, message):
 
 def test_n_envs_may_differ_by_algorithm(tmp_path):
     path = tmp_path / "g.yaml"
-    path.write_text(yaml.safe_dump({
-        "tasks": ["UnifiedManip/Arm4Reach-v0"], "action_modes": ["ee_delta"], "reward_types": ["dense"],
-        "algos": ["ppo", "sac"], "seeds": [0], "steps": 100, "n_envs": {"default": 1, "ppo": 8},
-    }))
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "tasks": ["UnifiedManip/Arm4Reach-v0"],
+                "action_modes": ["ee_delta"],
+                "reward_types": ["dense"],
+                "algos": ["ppo", "sac"],
+                "seeds": [0],
+                "steps": 100,
+                "n_envs": {"default": 1, "ppo": 8},
+            }
+        )
+    )
     assert {r.algo: r.n_envs for r in load_grid(path).runs} == {"ppo": 8, "sac": 1}
 
 
@@ -138,8 +196,17 @@ def test_only_selects_runs_and_refuses_what_matches_nothing(tmp_path):
         selected(grid, ("algorithm=ppo",))
     with pytest.raises(GridError, match="--only algo=td3 selects none of the grid's"):
         selected(grid, ("algo=td3",))
-    proc = cli("bench", str(ROOT / "baselines" / "grids" / "reward_design_1m.yaml"), "--out", str(tmp_path / "b"), "--only", "seed")
-    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "malformed --only 'seed'" in proc.stderr
+    proc = cli(
+        "bench",
+        str(ROOT / "baselines" / "grids" / "reward_design_1m.yaml"),
+        "--out",
+        str(tmp_path / "b"),
+        "--only",
+        "seed",
+    )
+    assert (
+        proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "malformed --only 'seed'" in proc.stderr
+    )
 
 
 # ---------------------------------------------------------------------- exploration diagnostic
@@ -180,9 +247,16 @@ def test_crossq_her_resumes_after_kill_9(tmp_path):
     from test_train import _wait_for_checkpoint, train_args
 
     run_dir = tmp_path / "run"
-    args = train_args("UnifiedManip/Arm4Reach-v0", "crossq_her", 800, run_dir, ["checkpoint_freq=200", "eval_freq=10000"])
-    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    args = train_args(
+        "UnifiedManip/Arm4Reach-v0", "crossq_her", 800, run_dir, ["checkpoint_freq=200", "eval_freq=10000"]
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "unified_manip.cli", *args],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     checkpoint = _wait_for_checkpoint(run_dir, 200, proc)
     proc.send_signal(signal.SIGKILL)
     proc.communicate(timeout=300)
@@ -199,9 +273,31 @@ def test_evaluation_schedule_counts_env_steps_over_all_training_envs(tmp_path):
     import numpy as np
 
     run_dir = tmp_path / "run"
-    proc = cli("train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "joint_delta", "--algo", "sac_her",
-               "--steps", "400", "--n-envs", "4", "--vec", "native", "--run-dir", str(run_dir), "--no-progress",
-               "--set", "learning_starts=240", "--set", "batch_size=32", "--set", "eval_freq=100",
-               "--set", "n_eval_episodes=1")
+    proc = cli(
+        "train",
+        "--env",
+        "UnifiedManip/Arm4Reach-v0",
+        "--action-mode",
+        "joint_delta",
+        "--algo",
+        "sac_her",
+        "--steps",
+        "400",
+        "--n-envs",
+        "4",
+        "--vec",
+        "native",
+        "--run-dir",
+        str(run_dir),
+        "--no-progress",
+        "--set",
+        "learning_starts=240",
+        "--set",
+        "batch_size=32",
+        "--set",
+        "eval_freq=100",
+        "--set",
+        "n_eval_episodes=1",
+    )
     assert proc.returncode == 0, proc.stderr
     assert np.load(run_dir / "eval" / "evaluations.npz")["timesteps"].tolist() == [100, 200, 300, 400]

@@ -19,8 +19,15 @@ def _collision_green(frame: np.ndarray) -> int:
 
 
 def test_robosuite_frames_hide_the_collision_geoms():
-    env = gym.make("UnifiedManip/Lift-v0", render_mode="rgb_array", render_width=160, render_height=160,
-                   camera_obs=True, camera_width=96, camera_height=96)
+    env = gym.make(
+        "UnifiedManip/Lift-v0",
+        render_mode="rgb_array",
+        render_width=160,
+        render_height=160,
+        camera_obs=True,
+        camera_width=96,
+        camera_height=96,
+    )
     obs, _ = env.reset(seed=0)
     backend = env.unwrapped._backend
     # The same scene with every geom group drawn: the check sees the collision geoms.

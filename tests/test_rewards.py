@@ -42,7 +42,9 @@ def test_raw_terms_beside_the_scaled_ones():
     # The batched API agrees with the wrapper.
     obs, _ = env.reset(seed=0)
     obs, _, _, _, info = env.step(np.zeros(4, np.float32))
-    batched = env.unwrapped.compute_reward_terms(obs["achieved_goal"][None], obs["desired_goal"][None], [info], raw=True)
+    batched = env.unwrapped.compute_reward_terms(
+        obs["achieved_goal"][None], obs["desired_goal"][None], [info], raw=True
+    )
     assert {k: float(v[0]) for k, v in batched.items()} == info["reward_terms_raw"]
 
 

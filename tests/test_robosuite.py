@@ -35,7 +35,9 @@ def test_native_matches_robosuite_make(name):
     seed, _ = backend._episode
 
     up = robosuite.make(
-        name, robots="Panda", controller_configs=robosuite.load_composite_controller_config(controller="BASIC", robot="Panda"),
+        name,
+        robots="Panda",
+        controller_configs=robosuite.load_composite_controller_config(controller="BASIC", robot="Panda"),
         **rt.UPSTREAM_KWARGS,
     )
     up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
@@ -165,7 +167,11 @@ def test_nothing_written_to_home_or_site_packages(tmp_path):
     import os
 
     proc = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
         env={**os.environ, "HOME": str(home)},
     )
     assert proc.returncode == 0, proc.stderr

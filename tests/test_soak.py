@@ -16,8 +16,23 @@ ROOT = Path(__file__).resolve().parents[1]
 def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
     out = tmp_path / "soak.json"
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.tools.soak", "--steps", "1000", "--frames", "10", "--cycles", "3", "--json", str(out)],
-        capture_output=True, text=True, timeout=900, cwd=ROOT,
+        [
+            sys.executable,
+            "-m",
+            "unified_manip.tools.soak",
+            "--steps",
+            "1000",
+            "--frames",
+            "10",
+            "--cycles",
+            "3",
+            "--json",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        cwd=ROOT,
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     document = json.loads(out.read_text())
@@ -42,10 +57,18 @@ def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
 
 
 def test_soak_bad_input_is_one_line_exit_2():
-    proc = subprocess.run([sys.executable, "-m", "unified_manip.tools.soak", "--parts", "steps,naps"],
-                          capture_output=True, text=True, timeout=120, cwd=ROOT)
+    proc = subprocess.run(
+        [sys.executable, "-m", "unified_manip.tools.soak", "--parts", "steps,naps"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=ROOT,
+    )
     assert proc.returncode == 2
-    assert proc.stderr.strip() == "python -m unified_manip.tools.soak: error: unknown part 'naps'; expected steps, frames or cycles"
+    assert (
+        proc.stderr.strip()
+        == "python -m unified_manip.tools.soak: error: unknown part 'naps'; expected steps, frames or cycles"
+    )
 
 
 def test_gauges_see_a_live_renderer():

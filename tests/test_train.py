@@ -59,8 +59,23 @@ def cli(*args: str, check: bool = True, timeout: float = 900) -> subprocess.Comp
 def train_args(task_id: str, algo: str, steps: int, run_dir: Path, extra: list[str] = ()) -> list[str]:
     sets = [a for s in SMOKE[algo] + RUN_SETTINGS + list(extra) for a in ("--set", s)]
     return [
-        "train", "--env", task_id, "--action-mode", mode_for(task_id), "--reward-type", "sparse",
-        "--algo", algo, "--steps", str(steps), "--seed", "0", "--run-dir", str(run_dir), "--no-progress", *sets,
+        "train",
+        "--env",
+        task_id,
+        "--action-mode",
+        mode_for(task_id),
+        "--reward-type",
+        "sparse",
+        "--algo",
+        algo,
+        "--steps",
+        str(steps),
+        "--seed",
+        "0",
+        "--run-dir",
+        str(run_dir),
+        "--no-progress",
+        *sets,
     ]
 
 
@@ -95,8 +110,17 @@ def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
     config = yaml.safe_load((run_dir / "config.yaml").read_text())
     assert config["env"] == task_id and config["algo"] == algo
     assert config["env_kwargs"] == {"action_mode": mode_for(task_id), "reward_type": "sparse"}
-    for package in ("python", "unified_manip", "mujoco", "gymnasium", "gymnasium-robotics", "robosuite",
-                    "stable-baselines3", "sb3-contrib", "torch"):
+    for package in (
+        "python",
+        "unified_manip",
+        "mujoco",
+        "gymnasium",
+        "gymnasium-robotics",
+        "robosuite",
+        "stable-baselines3",
+        "sb3-contrib",
+        "torch",
+    ):
         assert config["versions"][package] != "not installed"
     rows = monitor_rows(run_dir)
     assert rows and all(r["is_success"] in ("0.0", "1.0", "False", "True") for r in rows)
@@ -131,16 +155,27 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     from stable_baselines3.common.save_util import load_from_pkl
 
     run_dir = tmp_path / "run"
-    args = train_args("UnifiedManip/Arm4Reach-v0", "sac_her", 1000, run_dir,
-                      ["checkpoint_freq=200", "eval_freq=200", "n_eval_episodes=2"])
+    args = train_args(
+        "UnifiedManip/Arm4Reach-v0",
+        "sac_her",
+        1000,
+        run_dir,
+        ["checkpoint_freq=200", "eval_freq=200", "n_eval_episodes=2"],
+    )
     if how == "interrupt":  # Ctrl-C in a terminal reaches the env worker processes too
         args += ["--n-envs", "2", "--vec", "subproc"]
     # The child inherits this worker's signal dispositions; SIG_IGN for SIGINT (as after
     # a Ray test, or in a background job) must not stop train from handling Ctrl-C.
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT, start_new_session=True,
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "unified_manip.cli", *args],
+            cwd=ROOT,
+            start_new_session=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
     finally:
         signal.signal(signal.SIGINT, previous)
     checkpoint = _wait_for_checkpoint(run_dir, 400, proc)
@@ -158,8 +193,13 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
         assert written.digests[checkpoints.REPLAY_BUFFER]["rows"] * 2 == checkpoint == status["num_timesteps"]
     assert not (run_dir / "final_model.zip").exists()
 
-    proc = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "unified_manip.cli", *args],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     # Checkpoints keep the uninterrupted schedule (every 200 steps), whatever step the
     # run resumed from.
     assert _wait_for_checkpoint(run_dir, checkpoint + 1, proc) % 200 == 0
@@ -193,7 +233,9 @@ def test_a_seed_trains_bit_for_bit_on_one_machine(tmp_path):
     runs = [tmp_path / "a", tmp_path / "b", tmp_path / "other_seed"]
     for run_dir, seed in zip(runs, ["0", "0", "1"]):
         cli(*train_args("UnifiedManip/Arm4Push-v0", "tqc_her", 300, run_dir, extra), "--vec", "native", "--seed", seed)
-    first, second, other = (load_from_zip_file(run_dir / "final_model.zip", device="cpu")[1]["policy"] for run_dir in runs)
+    first, second, other = (
+        load_from_zip_file(run_dir / "final_model.zip", device="cpu")[1]["policy"] for run_dir in runs
+    )
     assert first.keys() == second.keys()
     assert all(np.array_equal(first[k].numpy(), second[k].numpy()) for k in first)
     assert not all(np.array_equal(first[k].numpy(), other[k].numpy()) for k in first)  # the check can fail
@@ -238,7 +280,10 @@ def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
 @pytest.mark.parametrize(
     "args,message",
     [
-        (["--algo", "dqn"], "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her')"),
+        (
+            ["--algo", "dqn"],
+            "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her')",
+        ),
         (["--env", "UnifiedManip/Nope-v0"], "argument --env: invalid choice: 'UnifiedManip/Nope-v0'"),
         (["--action-mode", "cartesian"], "argument --action-mode: invalid choice: 'cartesian'"),
         (["--reward-type", "shaped"], "argument --reward-type: invalid choice: 'shaped'"),
@@ -266,12 +311,26 @@ def test_bad_train_input_is_one_line_exit_2(args, message, tmp_path):
 def test_unsupported_mode_for_task_names_the_valid_modes(tmp_path):
     hand = next((t for t, s in unified_manip.TASKS.items() if "ee_delta" not in s.action_modes), None)
     assert hand is not None, "expected a task without ee_delta (the Shadow Hand tasks)"
-    proc = cli("train", "--env", hand, "--action-mode", "ee_delta", "--algo", "sac", "--steps", "10",
-               "--run-dir", str(tmp_path / "r"), check=False)
+    proc = cli(
+        "train",
+        "--env",
+        hand,
+        "--action-mode",
+        "ee_delta",
+        "--algo",
+        "sac",
+        "--steps",
+        "10",
+        "--run-dir",
+        str(tmp_path / "r"),
+        check=False,
+    )
     assert proc.returncode == 2
     expected = ", ".join(repr(m) for m in unified_manip.TASKS[hand].action_modes)
     # The env's own words (EnvConfig.require_supported), as gym.make says them.
-    assert proc.stderr.strip().endswith(f"action_mode 'ee_delta' is not supported by {hand}; expected one of {expected}")
+    assert proc.stderr.strip().endswith(
+        f"action_mode 'ee_delta' is not supported by {hand}; expected one of {expected}"
+    )
 
 
 def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
@@ -287,8 +346,11 @@ def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
     recipe = resolve("tqc_her", "UnifiedManip/FetchPush-v0")
     assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0") == {**recipe, "demonstrations": 100}
     assert resolve("tqc_her", "UnifiedManip/Lift-v0", action_mode="joint_delta") == {**recipe, "demonstrations": 100}
-    assert resolve("tqc_her", "UnifiedManip/Lift-v0", action_mode="native") == {**recipe, "demonstrations": 0,
-                                                                                 "learning_starts": 2000}
+    assert resolve("tqc_her", "UnifiedManip/Lift-v0", action_mode="native") == {
+        **recipe,
+        "demonstrations": 0,
+        "learning_starts": 2000,
+    }
     assert resolve("tqc_her", "UnifiedManip/Arm4Push-v0", ("demonstrations=0",))["demonstrations"] == 0
     assert recipe["policy_kwargs"] == {"net_arch": [256, 256, 256], "n_critics": 2}
     assert (recipe["n_envs"], recipe["gradient_steps"], recipe["batch_size"]) == (8, 2, 512)
@@ -301,10 +363,14 @@ def test_hyperparameter_files_resolve_with_anchors_and_literals_only():
 @pytest.mark.parametrize("key", ["UnifiedManip/Lift-v9", "UnifiedManip/Lift-v0 nativ", "Lift-v0 native"])
 def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
     """A misspelt entry would otherwise be ignored and the default trained in its place."""
-    (tmp_path / "sac.yaml").write_text(f"# Source: test\ndefault: {{policy: MultiInputPolicy}}\n'{key}': {{batch_size: 64}}\n")
+    (tmp_path / "sac.yaml").write_text(
+        f"# Source: test\ndefault: {{policy: MultiInputPolicy}}\n'{key}': {{batch_size: 64}}\n"
+    )
     with pytest.raises(HyperparameterError, match=f"sac.yaml:3: entry '{key}' names no registered task; expected "):
         resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="native")
-    (tmp_path / "sac.yaml").write_text("default: {policy: MultiInputPolicy}\n'UnifiedManip/Lift-v0 native': {batch_size: 64}\n")
+    (tmp_path / "sac.yaml").write_text(
+        "default: {policy: MultiInputPolicy}\n'UnifiedManip/Lift-v0 native': {batch_size: 64}\n"
+    )
     assert resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="native")["batch_size"] == 64
     assert "batch_size" not in resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="ee_delta")
 
@@ -326,9 +392,22 @@ def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
 def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_2(tmp_path):
     """8 envs x 200 steps of Stack-v0: HER has no finished episode to sample goals from
     before step 1600, and SB3 would stop the run there with a traceback."""
-    args = ["train", "--env", "UnifiedManip/Stack-v0", "--action-mode", "ee_delta", "--algo", "tqc_her", "--steps", "10",
-            "--no-progress",
-            "--run-dir", str(tmp_path / "run"), "--set", "demonstrations=0"]
+    args = [
+        "train",
+        "--env",
+        "UnifiedManip/Stack-v0",
+        "--action-mode",
+        "ee_delta",
+        "--algo",
+        "tqc_her",
+        "--steps",
+        "10",
+        "--no-progress",
+        "--run-dir",
+        str(tmp_path / "run"),
+        "--set",
+        "demonstrations=0",
+    ]
     proc = cli(*args, check=False)
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.strip() == (
@@ -350,12 +429,35 @@ def test_rl_zoo3_trains_a_unified_manip_id(tmp_path):
     env = dict(os.environ)
     proc = subprocess.run(
         [
-            sys.executable, "-m", "rl_zoo3.train", "--gym-packages", "unified_manip", "--algo", "tqc",
-            "--env", "UnifiedManip/FetchReach-v0", "--conf-file", str(ROOT / "baselines" / "zoo" / "tqc.yml"),
-            "-n", "300", "--env-kwargs", "action_mode:'native'", "reward_type:'sparse'",
-            "--hyperparams", "learning_starts:100", "--eval-freq", "-1", "--seed", "0", "--log-folder", str(tmp_path),
+            sys.executable,
+            "-m",
+            "rl_zoo3.train",
+            "--gym-packages",
+            "unified_manip",
+            "--algo",
+            "tqc",
+            "--env",
+            "UnifiedManip/FetchReach-v0",
+            "--conf-file",
+            str(ROOT / "baselines" / "zoo" / "tqc.yml"),
+            "-n",
+            "300",
+            "--env-kwargs",
+            "action_mode:'native'",
+            "reward_type:'sparse'",
+            "--hyperparams",
+            "learning_starts:100",
+            "--eval-freq",
+            "-1",
+            "--seed",
+            "0",
+            "--log-folder",
+            str(tmp_path),
         ],
-        capture_output=True, text=True, timeout=900, env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+        env=env,
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     run = tmp_path / "tqc" / "UnifiedManip-FetchReach-v0_1"
@@ -369,8 +471,15 @@ def _tiny_request(run_dir: Path, **kwargs):
     from unified_manip.training.train import TrainRequest
 
     settings = ("learning_starts=50", "batch_size=32", "eval_freq=150", "n_eval_episodes=1", "checkpoint_freq=1000")
-    base = dict(env="UnifiedManip/Arm4Reach-v0", action_mode="ee_delta", reward_type="sparse", algo="sac", steps=300,
-                run_dir=run_dir, overrides=settings)
+    base = dict(
+        env="UnifiedManip/Arm4Reach-v0",
+        action_mode="ee_delta",
+        reward_type="sparse",
+        algo="sac",
+        steps=300,
+        run_dir=run_dir,
+        overrides=settings,
+    )
     return TrainRequest(**{**base, **kwargs})
 
 

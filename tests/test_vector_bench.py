@@ -9,7 +9,21 @@ from unified_manip.tools import vector_bench as bench
 
 def test_benchmark_runs_every_kind(tmp_path, capsys):
     out = tmp_path / "bench.json"
-    argv = ["--modes", "joint_position", "--num-envs", "2", "--threads", "2", "--steps", "40", "--rounds", "1", "--physics", "--json", str(out)]
+    argv = [
+        "--modes",
+        "joint_position",
+        "--num-envs",
+        "2",
+        "--threads",
+        "2",
+        "--steps",
+        "40",
+        "--rounds",
+        "1",
+        "--physics",
+        "--json",
+        str(out),
+    ]
     assert bench.main(argv) == 0
     (row,) = json.loads(out.read_text())
     assert row["num_envs"] == 2 and row["raw_limit"] == 2 * row["raw_one_thread"] > 0

@@ -92,8 +92,14 @@ def test_sac_her_smoke():
     torch.set_num_threads(1)
     env = VecMonitor(native("UnifiedManip/Arm4Reach-v0", 2, action_mode="ee_delta"), info_keywords=("is_success",))
     model = SAC(
-        "MultiInputPolicy", env, replay_buffer_class=HerReplayBuffer, learning_starts=200, batch_size=64,
-        policy_kwargs=dict(net_arch=[32, 32]), seed=0, device="cpu",
+        "MultiInputPolicy",
+        env,
+        replay_buffer_class=HerReplayBuffer,
+        learning_starts=200,
+        batch_size=64,
+        policy_kwargs=dict(net_arch=[32, 32]),
+        seed=0,
+        device="cpu",
     )
     model.learn(1_000)
     assert model.num_timesteps == 1_000
@@ -112,7 +118,16 @@ def test_sac_her_smoke():
 def test_ppo_smoke():
     torch.set_num_threads(1)
     env = VecMonitor(native("UnifiedManip/Arm4Push-v0", 2, action_mode="joint_position", reward_type="dense"))
-    model = PPO("MultiInputPolicy", env, n_steps=64, batch_size=64, n_epochs=1, policy_kwargs=dict(net_arch=[32]), seed=0, device="cpu")
+    model = PPO(
+        "MultiInputPolicy",
+        env,
+        n_steps=64,
+        batch_size=64,
+        n_epochs=1,
+        policy_kwargs=dict(net_arch=[32]),
+        seed=0,
+        device="cpu",
+    )
     model.learn(256)
     assert model.num_timesteps == 256
     env.close()
@@ -126,9 +141,28 @@ def test_train_picks_and_runs_the_native_vector_env(tmp_path):
     assert resolve_vec("auto", "UnifiedManip/Lift-v0", 4) == "subproc"
     run = tmp_path / "run"
     sets = ["n_steps=64", "batch_size=64", "n_epochs=1", "eval_freq=128", "n_eval_episodes=1", "checkpoint_freq=128"]
-    args = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "joint_delta", "--algo", "ppo", "--steps", "256",
-            "--n-envs", "2", "--vec", "native", "--run-dir", str(run), "--no-progress", *[a for s in sets for a in ("--set", s)]]
-    proc = subprocess.run([sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600)
+    args = [
+        "train",
+        "--env",
+        "UnifiedManip/Arm4Reach-v0",
+        "--action-mode",
+        "joint_delta",
+        "--algo",
+        "ppo",
+        "--steps",
+        "256",
+        "--n-envs",
+        "2",
+        "--vec",
+        "native",
+        "--run-dir",
+        str(run),
+        "--no-progress",
+        *[a for s in sets for a in ("--set", s)],
+    ]
+    proc = subprocess.run(
+        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr
     # The evaluation env has the training env's layers (one VecMonitor) and no Monitor under it.
     assert "already wrapped with a `Monitor`" not in proc.stderr, proc.stderr

@@ -22,8 +22,8 @@ from unified_manip.envs._quiet import silence_import_notices  # noqa: E402
 
 silence_import_notices()
 
-from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES, EnvConfig
-from unified_manip.envs.registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task
+from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES, EnvConfig  # noqa: E402
+from unified_manip.envs.registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task  # noqa: E402
 
 try:
     __version__ = version("unified_manip")

@@ -19,7 +19,6 @@ family was one module; they are imported on first access.
 """
 
 from unified_manip.envs.lazy import reexport
-
 from unified_manip.envs.tasks.arm4.specs import SPECS
 
 __all__ = ["SPECS"]

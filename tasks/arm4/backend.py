@@ -16,8 +16,6 @@ from unified_manip.envs.controllers.ik import MinkIK
 from unified_manip.envs.controllers.rig import MujocoRig
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-
-from unified_manip.envs.tasks.contacts import touches_both
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS
 from unified_manip.envs.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
 from unified_manip.envs.tasks.arm4.scene import (
@@ -33,6 +31,7 @@ from unified_manip.envs.tasks.arm4.scene import (
     ROBOT_Q,
     SUBSTEPS,
 )
+from unified_manip.envs.tasks.contacts import touches_both
 
 #: How the arm's scene is drawn: from the model's ``front`` camera, every geom group.
 SCENE = SceneOptions(camera="front")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
-
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
 
 _MODES_HEAD = """Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,

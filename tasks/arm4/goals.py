@@ -20,7 +20,10 @@ def sample_object_xy(rng: np.random.Generator) -> np.ndarray:
 
 
 def sample_goal(
-    scene: str, rng: np.random.Generator, object_xy: np.ndarray | None, min_distance: float = PUSH_MIN_DISTANCE,
+    scene: str,
+    rng: np.random.Generator,
+    object_xy: np.ndarray | None,
+    min_distance: float = PUSH_MIN_DISTANCE,
     table_fraction: float = 0.0,
 ) -> np.ndarray:
     """The goal of the ``"reach"``, ``"push"`` or ``"pick_and_place"`` scene, drawn after the cube.

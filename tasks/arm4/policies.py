@@ -5,8 +5,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from unified_manip.envs.tasks.arm4.scene import (
+    FINGER_ON_CUBE,
+    OBS_CUBE,
+    OBS_CUBE_REL,
+    OBS_FINGERS,
+    OBS_GOAL_REL,
+    OBS_GRIP,
+)
 from unified_manip.envs.tasks.scripted import pick_and_place, toward
-from unified_manip.envs.tasks.arm4.scene import FINGER_ON_CUBE, OBS_CUBE, OBS_CUBE_REL, OBS_FINGERS, OBS_GOAL_REL, OBS_GRIP
 
 
 def reach_policy(obs: dict[str, np.ndarray]) -> np.ndarray:

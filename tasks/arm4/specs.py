@@ -6,11 +6,16 @@ from dataclasses import replace
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
-
-from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
-from unified_manip.envs.tasks.arm4.docs import PICK_AND_PLACE_DOC, PICK_AND_PLACE_V1_DOC, PUSH_DOC, PUSH_V1_DOC, REACH_DOC
+from unified_manip.envs.tasks.arm4.docs import (
+    PICK_AND_PLACE_DOC,
+    PICK_AND_PLACE_V1_DOC,
+    PUSH_DOC,
+    PUSH_V1_DOC,
+    REACH_DOC,
+)
 from unified_manip.envs.tasks.arm4.policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _BACKEND = "unified_manip.envs.tasks.arm4.backend:Arm4Backend"
 

@@ -28,7 +28,6 @@ when the family was one module; they are imported on first access.
 """
 
 from unified_manip.envs.lazy import reexport
-
 from unified_manip.envs.tasks.fetch.specs import SPECS
 
 __all__ = ["SPECS"]

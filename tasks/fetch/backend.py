@@ -12,11 +12,9 @@ from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
 from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.rendering import SceneOptions
 from unified_manip.envs.controllers.rig import MujocoRig
-
+from unified_manip.envs.rendering import SceneOptions
 from unified_manip.envs.tasks.contacts import touches_both
-from unified_manip.envs.tasks.upstream import UpstreamBackend
 from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 from unified_manip.envs.tasks.fetch.model import actuated_model
 from unified_manip.envs.tasks.fetch.scene import (
@@ -30,6 +28,7 @@ from unified_manip.envs.tasks.fetch.scene import (
     OBJECT_GEOM,
     OBS_REL,
 )
+from unified_manip.envs.tasks.upstream import UpstreamBackend
 
 #: How the scene is drawn: upstream's free camera, every geom group.
 SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
-
 from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 
 _MODES = f"""Action modes (action in [-1, 1]; the last entry commands the fingers, -1 closed,

@@ -54,7 +54,9 @@ def actuated_model(path: str, initial_qpos: np.ndarray, width: int, height: int)
     for name in FROZEN_JOINTS:
         q0 = float(initial_qpos[model.jnt_qposadr[model.joint(name).id]])
         spec.add_equality(
-            type=mujoco.mjtEq.mjEQ_JOINT, objtype=mujoco.mjtObj.mjOBJ_JOINT, name1=name,
+            type=mujoco.mjtEq.mjEQ_JOINT,
+            objtype=mujoco.mjtObj.mjOBJ_JOINT,
+            name1=name,
             data=[q0] + [0.0] * 10,
         )
     model = spec.compile()

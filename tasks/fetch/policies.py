@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from unified_manip.envs.tasks.scripted import pick_and_place, toward
 from unified_manip.envs.tasks.fetch.scene import OBS_FINGERS, OBS_GRIP, OBS_OBJ, OBS_REL
+from unified_manip.envs.tasks.scripted import pick_and_place, toward
 
 
 def reach_policy(obs: dict[str, np.ndarray]) -> np.ndarray:

@@ -6,7 +6,15 @@ import numpy as np
 
 ARM_JOINTS: tuple[str, ...] = tuple(
     f"robot0:{name}_joint"
-    for name in ("shoulder_pan", "shoulder_lift", "upperarm_roll", "elbow_flex", "forearm_roll", "wrist_flex", "wrist_roll")
+    for name in (
+        "shoulder_pan",
+        "shoulder_lift",
+        "upperarm_roll",
+        "elbow_flex",
+        "forearm_roll",
+        "wrist_flex",
+        "wrist_roll",
+    )
 )
 ARM_ACTUATORS: tuple[str, ...] = tuple(j.replace("_joint", "_servo") for j in ARM_JOINTS)
 FINGER_JOINTS = ("robot0:l_gripper_finger_joint", "robot0:r_gripper_finger_joint")

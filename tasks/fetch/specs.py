@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
-
-from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 from unified_manip.envs.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
 from unified_manip.envs.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _BACKEND = "unified_manip.envs.tasks.fetch.backend:FetchBackend"
 _UPSTREAM = "gymnasium_robotics.envs.fetch.{module}:MujocoFetch{name}Env"
@@ -21,7 +20,9 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         name=f"Fetch{name}",
         family="fetch",
         shaping=shaping,
-        make_backend=lazy(_BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), has_object=name != "Reach"),
+        make_backend=lazy(
+            _BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), has_object=name != "Reach"
+        ),
         controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=50,

@@ -34,9 +34,10 @@ the family was one module; they are imported on first access.
 """
 
 from unified_manip.envs.lazy import reexport
-
 from unified_manip.envs.tasks.robosuite_tasks.specs import SPECS
 
 __all__ = ["SPECS"]
 
-__getattr__, __dir__ = reexport(__name__, ("options", "controllers", "rig", "suite", "goals", "backend", "policies", "docs", "specs"))
+__getattr__, __dir__ = reexport(
+    __name__, ("options", "controllers", "rig", "suite", "goals", "backend", "policies", "docs", "specs")
+)

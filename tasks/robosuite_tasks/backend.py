@@ -14,7 +14,6 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.ik import IKJoints
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options

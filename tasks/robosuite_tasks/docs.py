@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
-
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 
 _OPTIONS = """Options: ``robot`` (default "Panda"; also "Sawyer", "UR5e", "IIWA", "Kinova3",

@@ -124,7 +124,9 @@ def _door_handle(up) -> np.ndarray:
 
 TASK_DEFS: dict[str, RobosuiteTask] = {
     "Lift": RobosuiteTask("Lift", _body_pos("cube_body_id"), _lift_goal, _body_pos("cube_body_id"), lambda up: up.cube),
-    "Stack": RobosuiteTask("Stack", _body_pos("cubeA_body_id"), _stack_goal, _body_pos("cubeA_body_id"), lambda up: up.cubeA),
+    "Stack": RobosuiteTask(
+        "Stack", _body_pos("cubeA_body_id"), _stack_goal, _body_pos("cubeA_body_id"), lambda up: up.cubeA
+    ),
     "PickPlaceCan": RobosuiteTask(
         "PickPlaceCan", _obj_body_pos("Can"), _can_goal, _obj_body_pos("Can"), lambda up: up.objects[up.object_id]
     ),

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
-
-from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
+from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 

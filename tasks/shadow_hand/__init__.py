@@ -21,7 +21,6 @@ this package, as when the family was one module.
 """
 
 from unified_manip.envs.lazy import reexport
-
 from unified_manip.envs.tasks.shadow_hand.specs import SPECS
 
 __all__ = ["SPECS"]

@@ -10,10 +10,9 @@ from gymnasium_robotics.envs.shadow_dexterous_hand.hand_env import DEFAULT_CAMER
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.rendering import SceneOptions
-
-from unified_manip.envs.tasks.upstream import UpstreamBackend
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.rig import HandRig
+from unified_manip.envs.tasks.upstream import UpstreamBackend
 
 #: The block is still on the hand while its centre is above this height, m (upstream's reset check).
 BLOCK_ON_HAND_Z = 0.04

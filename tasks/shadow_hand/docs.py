@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
-
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 
 _MODES = f"""Action modes (20 entries in [-1, 1], one per actuator, upstream's order: WRJ1, WRJ0,

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec, euclidean
-
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
 from unified_manip.envs.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
@@ -35,8 +34,15 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     for name, shaping, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
         ("HandReach", "reach", "reach:MujocoHandReachEnv", "HandReach-v3", 15, 50, 0.01, REACH_DOC, euclidean),
         (
-            "HandManipulateBlock", "push", "manipulate_block:MujocoHandBlockEnv", "HandManipulateBlock-v1",
-            7, 100, BLOCK_POSITION_THRESHOLD, BLOCK_DOC, block_goal_distance,
+            "HandManipulateBlock",
+            "push",
+            "manipulate_block:MujocoHandBlockEnv",
+            "HandManipulateBlock-v1",
+            7,
+            100,
+            BLOCK_POSITION_THRESHOLD,
+            BLOCK_DOC,
+            block_goal_distance,
         ),
     )
 )

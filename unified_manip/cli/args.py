@@ -55,5 +55,7 @@ def figure_path(value: str) -> str:
     from unified_manip.experiments.plot import FIGURE_SUFFIXES
 
     if Path(value).suffix.lower() not in FIGURE_SUFFIXES:
-        raise argparse.ArgumentTypeError(f"expected a figure path ending in {', '.join(FIGURE_SUFFIXES)}; got {value!r}")
+        raise argparse.ArgumentTypeError(
+            f"expected a figure path ending in {', '.join(FIGURE_SUFFIXES)}; got {value!r}"
+        )
     return value

@@ -32,7 +32,9 @@ def rollout_frames(task_id: str, seed: int, frames: int, size: int, action_mode:
     return shots, bool(info["is_success"])
 
 
-def run(out: Path, seed: int = 0, frames: int = 6, size: int = 200, task_ids=None, progress: bool = True) -> dict[str, bool]:
+def run(
+    out: Path, seed: int = 0, frames: int = 6, size: int = 200, task_ids=None, progress: bool = True
+) -> dict[str, bool]:
     """Write the strip to ``out`` (PNG) and return each task's success."""
     import imageio.v3 as iio
     from tqdm import tqdm

@@ -9,8 +9,8 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from unified_manip.cli.runs import add_commands
 from unified_manip.cli.args import Parser, positive_int, task_ids
+from unified_manip.cli.runs import add_commands
 from unified_manip.envs.config import REWARD_TYPES
 from unified_manip.envs.registry import TASKS
 
@@ -41,7 +41,15 @@ def cmd_speed(args: argparse.Namespace) -> int:
 
     results = speed.run(args.env, args.modes, steps=args.steps, repeats=args.repeats)
     table = Table(title=f"env steps/s vs raw physics (median of {args.repeats} x {args.steps} steps)")
-    for col in ("ID", "action mode", "env steps/s", "raw physics steps/s", "env / raw", "overhead µs/step", "mode / joint_position"):
+    for col in (
+        "ID",
+        "action mode",
+        "env steps/s",
+        "raw physics steps/s",
+        "env / raw",
+        "overhead µs/step",
+        "mode / joint_position",
+    ):
         table.add_column(col, justify="right")
     by_key = {(r.task_id, r.action_mode): r for r in results}
     for r in results:
@@ -63,13 +71,26 @@ def cmd_speed(args: argparse.Namespace) -> int:
     wrapped = [t for t in ids if TASKS[t].upstream_id]
     if wrapped and not args.no_upstream:
         up = Table(title="native mode against the upstream env, same actions, one step of each in turn")
-        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream", "ours resets/s", "upstream resets/s"):
+        for col in (
+            "ID",
+            "upstream",
+            "ours steps/s",
+            "upstream steps/s",
+            "ours / upstream",
+            "ours resets/s",
+            "upstream resets/s",
+        ):
             up.add_column(col, justify="right")
         rows = [speed.compare_upstream(t, steps=args.steps) for t in wrapped]
         for r in rows:
             up.add_row(
-                r.task_id, r.upstream, f"{r.ours_steps_per_s:,.0f}", f"{r.upstream_steps_per_s:,.0f}", f"{r.ratio:.3f}",
-                f"{r.ours_resets_per_s:,.0f}", f"{r.upstream_resets_per_s:,.1f}",
+                r.task_id,
+                r.upstream,
+                f"{r.ours_steps_per_s:,.0f}",
+                f"{r.upstream_steps_per_s:,.0f}",
+                f"{r.ratio:.3f}",
+                f"{r.ours_resets_per_s:,.0f}",
+                f"{r.upstream_resets_per_s:,.1f}",
             )
         console.print(up)
         document["upstream"] = [r.as_dict() for r in rows]
@@ -79,7 +100,9 @@ def cmd_speed(args: argparse.Namespace) -> int:
             tr.add_column(col, justify="right")
         rows = [speed.train_speed(t, steps=args.train_steps) for t in args.train]
         for r in rows:
-            tr.add_row(r.task_id, r.upstream, f"{r.ours_steps_per_s:,.1f}", f"{r.upstream_steps_per_s:,.1f}", f"{r.ratio:.3f}")
+            tr.add_row(
+                r.task_id, r.upstream, f"{r.ours_steps_per_s:,.1f}", f"{r.upstream_steps_per_s:,.1f}", f"{r.ratio:.3f}"
+            )
         console.print(tr)
         document["training"] = [r.as_dict() for r in rows]
     if args.json:
@@ -90,8 +113,14 @@ def cmd_speed(args: argparse.Namespace) -> int:
 def cmd_demo(args: argparse.Namespace) -> int:
     from unified_manip.cli import demo
 
-    successes = demo.run(Path(args.out), seed=args.seed, frames=args.frames, size=args.size, task_ids=args.env,
-                         progress=not args.no_progress)
+    successes = demo.run(
+        Path(args.out),
+        seed=args.seed,
+        frames=args.frames,
+        size=args.size,
+        task_ids=args.env,
+        progress=not args.no_progress,
+    )
     for tid, ok in successes.items():
         print(f"{tid}: {'success' if ok else 'failure'}")
     print(f"wrote {args.out}")
@@ -134,9 +163,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.experiments.grid import GridError
+    from unified_manip.experiments.results import ResultsError
     from unified_manip.training.hyperparams import HyperparameterError
     from unified_manip.training.request import TrainError
-    from unified_manip.experiments.results import ResultsError
     from unified_manip.training.runlock import DirectoryInUse
     from unified_manip.training.yamlfile import YamlFileError
 
@@ -144,6 +173,13 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (TrainError, HyperparameterError, GridError, ResultsError, YamlFileError, DirectoryInUse, FileNotFoundError) as err:
+    except (
+        TrainError,
+        HyperparameterError,
+        GridError,
+        ResultsError,
+        YamlFileError,
+        DirectoryInUse,
+        FileNotFoundError,
+    ) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
-

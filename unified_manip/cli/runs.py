@@ -12,10 +12,10 @@ from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
 from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES
-from unified_manip.training.devices import DEVICES
-from unified_manip.training.hyperparams import ALGOS
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.vector.factory import VEC_KINDS
+from unified_manip.training.devices import DEVICES
+from unified_manip.training.hyperparams import ALGOS
 
 
 def add_commands(sub) -> None:
@@ -27,16 +27,38 @@ def add_commands(sub) -> None:
     p.add_argument("--algo", required=True, choices=list(ALGOS))
     p.add_argument("--steps", type=positive_int, required=True, help="total environment steps")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--n-envs", type=positive_int, help="parallel envs (see --vec; default: the hyperparameter file's n_envs, else 1)")
-    p.add_argument("--vec", choices=VEC_KINDS, default="auto",
-                   help="how the envs are stepped: native (the native vector env, on threads), dummy, subproc, or auto: "
-                        "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more")
+    p.add_argument(
+        "--n-envs",
+        type=positive_int,
+        help="parallel envs (see --vec; default: the hyperparameter file's n_envs, else 1)",
+    )
+    p.add_argument(
+        "--vec",
+        choices=VEC_KINDS,
+        default="auto",
+        help="how the envs are stepped: native (the native vector env, on threads), dummy, subproc, or auto: "
+        "native where the ID has one and --n-envs > 1, else dummy for one env and subproc for more",
+    )
     p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
-    p.add_argument("--env-kwarg", action="append", type=env_kwarg, metavar="KEY=VALUE", help="extra env keyword argument, a YAML value (repeatable), e.g. controller_options={band: 0.75}")
+    p.add_argument(
+        "--env-kwarg",
+        action="append",
+        type=env_kwarg,
+        metavar="KEY=VALUE",
+        help="extra env keyword argument, a YAML value (repeatable), e.g. controller_options={band: 0.75}",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--device", choices=DEVICES, help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto")
-    p.add_argument("--restart", action="store_true", help="start the run over from step 0 (discards its checkpoints, logs and models)")
+    p.add_argument(
+        "--device",
+        choices=DEVICES,
+        help="auto (CUDA when torch sees a GPU), cpu or cuda; default: the hyperparameter file's device key, else auto",
+    )
+    p.add_argument(
+        "--restart",
+        action="store_true",
+        help="start the run over from step 0 (discards its checkpoints, logs and models)",
+    )
     p.set_defaults(func=cmd_train)
 
     p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
@@ -57,13 +79,24 @@ def add_commands(sub) -> None:
     p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
     p.add_argument("--workers", type=positive_int, help="runs at a time (default: CPU cores)")
     p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
-    p.add_argument("--device", choices=DEVICES, help="device of every run: auto, cpu or cuda (default: each hyperparameter file's device key, else auto)")
-    p.add_argument("--only", action="append", metavar="KEY=VALUE",
-                   help="train only the runs matching this (task, action_mode, reward_type, algo or seed; repeatable: "
-                        "values of one key are alternatives, keys must all match); results keep every finished run")
-    p.add_argument("--collect", action="store_true",
-                   help="start no run: write results.csv from the finished runs in --out (e.g. copied in from another "
-                        "bench directory)")
+    p.add_argument(
+        "--device",
+        choices=DEVICES,
+        help="device of every run: auto, cpu or cuda (default: each hyperparameter file's device key, else auto)",
+    )
+    p.add_argument(
+        "--only",
+        action="append",
+        metavar="KEY=VALUE",
+        help="train only the runs matching this (task, action_mode, reward_type, algo or seed; repeatable: "
+        "values of one key are alternatives, keys must all match); results keep every finished run",
+    )
+    p.add_argument(
+        "--collect",
+        action="store_true",
+        help="start no run: write results.csv from the finished runs in --out (e.g. copied in from another "
+        "bench directory)",
+    )
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=cmd_bench)
 
@@ -78,7 +111,11 @@ def add_commands(sub) -> None:
     p.add_argument("results", nargs="+", help="results.csv files written by unified-manip bench")
     p.add_argument("--out", required=True, type=figure_path, help="output figure (.png, .svg or .pdf)")
     p.add_argument("--columns", type=positive_int, default=4, help="panels per row")
-    p.add_argument("--tasks", type=task_ids, help="comma-separated IDs: the panels, in this order (default: every task in the files)")
+    p.add_argument(
+        "--tasks",
+        type=task_ids,
+        help="comma-separated IDs: the panels, in this order (default: every task in the files)",
+    )
     p.set_defaults(func=cmd_plot)
 
 
@@ -131,8 +168,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from unified_manip.experiments.grid import load_grid
     from unified_manip.experiments.bench import run_grid
+    from unified_manip.experiments.grid import load_grid
 
     grid = load_grid(Path(args.grid))
     out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
@@ -174,8 +211,13 @@ def cmd_report(args: argparse.Namespace) -> int:
         raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
     claims = load_mapping(Path(args.claims), "a mapping of claim labels") if args.claims else None
     out = Path(args.out) if args.out else results.parent / "report"
-    path = build_report(results, out, command=shlex.join(["unified-manip", *sys.argv[1:]]),
-                        dense_check=not args.no_dense_check, claims=claims)
+    path = build_report(
+        results,
+        out,
+        command=shlex.join(["unified-manip", *sys.argv[1:]]),
+        dense_check=not args.no_dense_check,
+        claims=claims,
+    )
     print(f"wrote {path}")
     return 0
 

@@ -93,18 +93,18 @@ class EnvConfig:
                 raise TypeError(f"{name} must be a {cls.__name__} or None, got {type(value).__name__}")
         if self.render_mode is not None and self.render_mode not in RENDER_MODES:
             raise ValueError(
-                f"unknown render_mode {self.render_mode!r}; "
-                f"expected None or one of {_choices(RENDER_MODES)}"
+                f"unknown render_mode {self.render_mode!r}; expected None or one of {_choices(RENDER_MODES)}"
             )
         if not isinstance(self.terminate_on_success, bool):
-            raise TypeError(
-                "terminate_on_success must be a bool, got "
-                f"{type(self.terminate_on_success).__name__}"
-            )
+            raise TypeError(f"terminate_on_success must be a bool, got {type(self.terminate_on_success).__name__}")
         if self.controller_options is None:
             object.__setattr__(self, "controller_options", {})
-        if not isinstance(self.controller_options, Mapping) or not all(isinstance(k, str) for k in self.controller_options):
-            raise TypeError(f"controller_options must be a mapping of parameter names to values, got {self.controller_options!r}")
+        if not isinstance(self.controller_options, Mapping) or not all(
+            isinstance(k, str) for k in self.controller_options
+        ):
+            raise TypeError(
+                f"controller_options must be a mapping of parameter names to values, got {self.controller_options!r}"
+            )
         object.__setattr__(self, "controller_options", dict(self.controller_options))  # the caller's stays theirs
         for name in ("render_width", "render_height"):
             value = getattr(self, name)
@@ -115,8 +115,7 @@ class EnvConfig:
         """Raise ``ValueError`` if the task does not support the chosen action mode."""
         if self.action_mode not in supported:
             raise ValueError(
-                f"action_mode {self.action_mode!r} is not supported by {task_id}; "
-                f"expected one of {_choices(supported)}"
+                f"action_mode {self.action_mode!r} is not supported by {task_id}; expected one of {_choices(supported)}"
             )
 
     def mode_config(self, controllers: Mapping[str, Any]):
@@ -128,14 +127,21 @@ class EnvConfig:
             return config
         names = tuple(config.parameters())
         if not names:
-            raise ValueError(f"action_mode {self.action_mode!r} here ({type(config).__name__}) has no parameters; "
-                             f"expected no controller_options, got {dict(self.controller_options)!r}")
+            raise ValueError(
+                f"action_mode {self.action_mode!r} here ({type(config).__name__}) has no parameters; "
+                f"expected no controller_options, got {dict(self.controller_options)!r}"
+            )
         unknown = [k for k in self.controller_options if k not in names]
         if unknown:
-            hint = (f" (YAML reads {unknown[0]!r} as one name: write a space after the colon)"
-                    if ":" in str(unknown[0]) else "")
-            raise ValueError(f"unknown controller option {unknown[0]!r} for action_mode {self.action_mode!r} "
-                             f"({type(config).__name__}); expected one of {_choices(names)}{hint}")
+            hint = (
+                f" (YAML reads {unknown[0]!r} as one name: write a space after the colon)"
+                if ":" in str(unknown[0])
+                else ""
+            )
+            raise ValueError(
+                f"unknown controller option {unknown[0]!r} for action_mode {self.action_mode!r} "
+                f"({type(config).__name__}); expected one of {_choices(names)}{hint}"
+            )
         value = dict(self.controller_options)
         for k, v in value.items():  # YAML and JSON give lists; the frozen configs hold tuples
             if isinstance(v, list):

@@ -156,6 +156,4 @@ def get_task(task_id: str) -> TaskSpec:
     try:
         return TASKS[task_id]
     except KeyError:
-        raise ValueError(
-            f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}"
-        ) from None
+        raise ValueError(f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}") from None

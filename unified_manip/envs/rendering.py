@@ -76,8 +76,9 @@ class Renderer:
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         free = dict(scene.free_camera) if scene.free_camera is not None else None
-        renderer = MujocoRenderer(model, data, free, width=self.width, height=self.height,
-                                  max_geom=scene.max_geom, camera_name=scene.camera)
+        renderer = MujocoRenderer(
+            model, data, free, width=self.width, height=self.height, max_geom=scene.max_geom, camera_name=scene.camera
+        )
         viewer = renderer._get_viewer(self.mode)  # creates the GL context and the scene options
         for group in scene.hidden_geom_groups:
             viewer.vopt.geomgroup[group] = 0
@@ -92,7 +93,12 @@ class Renderer:
         return {**self.__dict__, "_renderer": None, "_viewer": None}
 
 
-def LazyRenderer(mode: str | None, width: int, height: int, camera_name: str | None = None,  # noqa: N802
-                 camera_config: dict[str, Any] | None = None) -> Renderer:
+def LazyRenderer(
+    mode: str | None,
+    width: int,
+    height: int,
+    camera_name: str | None = None,  # noqa: N802
+    camera_config: dict[str, Any] | None = None,
+) -> Renderer:
     """The renderer under its old name and arguments."""
     return Renderer(mode, width, height, SceneOptions(camera=camera_name, free_camera=camera_config))

@@ -175,15 +175,12 @@ class RewardSpec:
         """Scaled value of every term, each shaped like ``distance``."""
         return {t.name: t.scale * t.fn(distance, success, ctx) for t in self.terms}
 
-    def total(
-        self, distance: np.ndarray, success: np.ndarray, ctx: Mapping[str, np.ndarray]
-    ) -> np.ndarray:
+    def total(self, distance: np.ndarray, success: np.ndarray, ctx: Mapping[str, np.ndarray]) -> np.ndarray:
         """The reward: the sum of the scaled terms."""
         out = np.zeros(np.shape(distance), dtype=np.float64)
         for t in self.terms:
             out = out + t.scale * t.fn(distance, success, ctx)
         return out
-
 
     def raw_batch(
         self, distance: np.ndarray, success: np.ndarray, ctx: Mapping[str, np.ndarray]
@@ -243,8 +240,5 @@ def info_arrays(info: Any, batch_shape: tuple[int, ...]) -> dict[str, np.ndarray
     if len(infos) != n:
         raise ValueError(f"got {len(infos)} infos for a batch of {n} goals")
     return {
-        k: np.fromiter((float(i.get(k, 0.0)) for i in infos), np.float64, n).reshape(
-            batch_shape
-        )
-        for k in INFO_KEYS
+        k: np.fromiter((float(i.get(k, 0.0)) for i in infos), np.float64, n).reshape(batch_shape) for k in INFO_KEYS
     }

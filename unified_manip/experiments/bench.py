@@ -58,8 +58,16 @@ def run_one(spec: RunSpec, out_dir: str, threads: int = 1, device: str | None = 
 
     run_dir = Path(out_dir) / "runs" / spec.name
     req = TrainRequest(
-        env=spec.task, action_mode=spec.action_mode, reward_type=spec.reward_type, algo=spec.algo,
-        steps=spec.steps, seed=spec.seed, n_envs=spec.n_envs, run_dir=run_dir, overrides=spec.overrides, device=device,
+        env=spec.task,
+        action_mode=spec.action_mode,
+        reward_type=spec.reward_type,
+        algo=spec.algo,
+        steps=spec.steps,
+        seed=spec.seed,
+        n_envs=spec.n_envs,
+        run_dir=run_dir,
+        overrides=spec.overrides,
+        device=device,
         env_kwargs=spec.env_kwargs,
     )
     train(req, argv=None, progress=False, log=lambda msg: None, threads=threads, lock_wait_s=RUN_LOCK_WAIT_S)
@@ -77,8 +85,9 @@ class _LocalExecutor:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
-        self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                                        initializer=_ignore_sigint)
+        self.pool = ProcessPoolExecutor(
+            max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint
+        )
 
     def submit(self, *args):
         return self.pool.submit(run_one, *args)
@@ -191,13 +200,34 @@ def run_grid(
             raise GridError(str(err)) from None
     out_dir = Path(out_dir).resolve()
     with DirectoryLock(out_dir, "bench directory"):
-        return _run_owned(grid, out_dir, executor, workers, address, retries, progress, None if collect else command,
-                          on_event, device, set() if collect else selected(grid, select))
+        return _run_owned(
+            grid,
+            out_dir,
+            executor,
+            workers,
+            address,
+            retries,
+            progress,
+            None if collect else command,
+            on_event,
+            device,
+            set() if collect else selected(grid, select),
+        )
 
 
-def _run_owned(grid: Grid, out_dir: Path, executor: str, workers: int | None, address: str | None, retries: int,
-               progress: bool, command: str | None, on_event, device: str | None,
-               chosen: set[str] | None = None) -> dict[str, Any]:
+def _run_owned(
+    grid: Grid,
+    out_dir: Path,
+    executor: str,
+    workers: int | None,
+    address: str | None,
+    retries: int,
+    progress: bool,
+    command: str | None,
+    on_event,
+    device: str | None,
+    chosen: set[str] | None = None,
+) -> dict[str, Any]:
     (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
     if command:
         (out_dir / "command.txt").write_text(command + "\n")
@@ -210,7 +240,9 @@ def _run_owned(grid: Grid, out_dir: Path, executor: str, workers: int | None, ad
 
     from tqdm import tqdm
 
-    bar = tqdm(total=len(grid.runs), initial=len(rows), unit="run", desc=grid.name, disable=not progress, dynamic_ncols=True)
+    bar = tqdm(
+        total=len(grid.runs), initial=len(rows), unit="run", desc=grid.name, disable=not progress, dynamic_ncols=True
+    )
     started = time.time()
 
     def done(spec: RunSpec, row: dict | None, error: str | None) -> bool:

@@ -55,8 +55,9 @@ def read_scalars(run_dir: Path, tags=tuple(TAGS)) -> dict[str, tuple[np.ndarray,
     return {t: (np.array(sorted(d)), np.array([d[s] for s in sorted(d)])) for t, d in values.items() if d}
 
 
-def plot_training(task: str, groups: dict[tuple[str, str, str], list[dict[str, Any]]], runs_dir: Path,
-                  out: Path) -> Path | None:
+def plot_training(
+    task: str, groups: dict[tuple[str, str, str], list[dict[str, Any]]], runs_dir: Path, out: Path
+) -> Path | None:
     """One figure per task: each tag against env steps, the mean over a setting's seeds with
     their range shaded. ``None`` when no run of the task has a log in ``runs_dir``."""
     import matplotlib
@@ -78,7 +79,7 @@ def plot_training(task: str, groups: dict[tuple[str, str, str], list[dict[str, A
             with warnings.catch_warnings():  # steps before any run's first log are all NaN: left blank
                 warnings.simplefilter("ignore", RuntimeWarning)
                 mean, low, high = np.nanmean(ys, axis=0), np.nanmin(ys, axis=0), np.nanmax(ys, axis=0)
-            line, = ax.plot(grid, mean, color=color, label=f"{mode} / {reward} / {algo} (n={len(series)})")
+            (line,) = ax.plot(grid, mean, color=color, label=f"{mode} / {reward} / {algo} (n={len(series)})")
             color = line.get_color()
             if len(ys) > 1:
                 ax.fill_between(grid, low, high, color=color, alpha=0.2)

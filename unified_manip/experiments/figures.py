@@ -43,8 +43,10 @@ def _target_lines(targets: dict[str, float] | None) -> list[tuple[float, str]]:
     modes_at: dict[float, list[str]] = {}
     for mode, level in sorted((targets or {}).items()):
         modes_at.setdefault(level, []).append(mode)
-    return [(level, f"target {level:.2f}, " + (", ".join(modes) if len(modes) <= 2 else f"{len(modes)} modes"))
-            for level, modes in sorted(modes_at.items())]
+    return [
+        (level, f"target {level:.2f}, " + (", ".join(modes) if len(modes) <= 2 else f"{len(modes)} modes"))
+        for level, modes in sorted(modes_at.items())
+    ]
 
 
 def curve_band(runs: list[dict[str, Any]]):
@@ -76,7 +78,7 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
     for (algo, mode, reward), runs in sorted(groups.items()):
         steps, mean, low, high = curve_band(runs)
-        line, = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
+        (line,) = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
         if np.isfinite(low).any():
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
     for level, label in _target_lines(targets):
@@ -122,7 +124,9 @@ def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | N
         ax.text(1.03, yi, f"{b.mean:.2f}", va="center", fontsize=8)
     for level, label in _target_lines(targets):
         ax.axvline(level, color="0.4", linestyle="--", linewidth=1)
-        ax.text(level, 1.0, label, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7, color="0.3")
+        ax.text(
+            level, 1.0, label, transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7, color="0.3"
+        )
     ax.set_yticks(y, [f"{b.label} (n={len(b.values)})" for b in bars], fontsize=8)
     ax.set_xlim(0, 1.1)
     ax.set_xlabel("final success rate (bar: mean over seeds, whisker: 95% bootstrap CI, dots: seeds)", fontsize=8)

@@ -9,13 +9,23 @@ from pathlib import Path
 from typing import Any
 
 from unified_manip.envs.config import EnvConfig, validate_reward_type
+from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
-from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.training.yamlfile import YamlFileError, load_mapping
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
-OPTIONAL = ("name", "description", "eval_freq", "n_eval_episodes", "overrides", "n_envs", "only", "targets", "env_kwargs")
+OPTIONAL = (
+    "name",
+    "description",
+    "eval_freq",
+    "n_eval_episodes",
+    "overrides",
+    "n_envs",
+    "only",
+    "targets",
+    "env_kwargs",
+)
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 
 
@@ -49,7 +59,11 @@ class Grid:
 
 def _list(path: Path, doc: dict, key: str, kind: type) -> list:
     value = doc[key]
-    if not isinstance(value, list) or not value or not all(isinstance(v, kind) and not isinstance(v, bool) for v in value):
+    if (
+        not isinstance(value, list)
+        or not value
+        or not all(isinstance(v, kind) and not isinstance(v, bool) for v in value)
+    ):
         raise GridError(f"{path}: grid key {key!r} must be a non-empty list of {kind.__name__}, got {value!r}")
     return value
 
@@ -198,13 +212,16 @@ def _per_key(path: Path, name: str, value: Any, keys: list[str], what: str) -> d
 
     ``steps`` is keyed by task ID, ``n_envs`` by algorithm (PPO with parallel envs beside
     single-env SAC in one grid)."""
+
     def positive(v: Any) -> bool:
         return isinstance(v, int) and not isinstance(v, bool) and v > 0
 
     if positive(value):
         return {k: value for k in keys}
     if not isinstance(value, dict):
-        raise GridError(f"{path}: {name} must be a positive integer, got {value!r} (or a mapping of the grid's {what} to one)")
+        raise GridError(
+            f"{path}: {name} must be a positive integer, got {value!r} (or a mapping of the grid's {what} to one)"
+        )
     unknown = [k for k in value if k != "default" and k not in keys]
     if unknown:
         raise GridError(f"{path}: {name} names {unknown[0]!r}, which is not one of the grid's {what} (or 'default')")

@@ -17,9 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.experiments.targets import grid_targets
 from unified_manip.experiments.figures import curve_band, pyplot
 from unified_manip.experiments.results import ResultsError, read_results
+from unified_manip.experiments.targets import grid_targets
 
 #: File types the figure may be written as (matplotlib picks the format by suffix).
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
@@ -66,8 +66,10 @@ def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[
     if tasks is not None:
         missing = [t for t in tasks if t not in panels]
         if missing:
-            raise ResultsError(f"no finished runs of {', '.join(missing)} in {', '.join(map(str, sources))}; "
-                               f"the files hold runs of {', '.join(panels)}")
+            raise ResultsError(
+                f"no finished runs of {', '.join(missing)} in {', '.join(map(str, sources))}; "
+                f"the files hold runs of {', '.join(panels)}"
+            )
         panels = {t: panels[t] for t in tasks}
     every = sorted({s for settings in panels.values() for s in settings})
     label = _labeller(every)
@@ -93,7 +95,7 @@ def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="best")
-    for ax in list(axes.flat)[len(panels):]:
+    for ax in list(axes.flat)[len(panels) :]:
         ax.set_visible(False)
     fig.supxlabel("environment steps", fontsize=9)
     fig.supylabel("success rate", fontsize=9)

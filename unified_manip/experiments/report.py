@@ -19,10 +19,10 @@ from typing import Any
 import numpy as np
 import yaml
 
-from unified_manip.experiments.results import read_results
-from unified_manip.experiments.targets import benchmark_table, grid_targets
 from unified_manip.experiments.figures import plot_final, plot_task
+from unified_manip.experiments.results import read_results
 from unified_manip.experiments.stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
+from unified_manip.experiments.targets import benchmark_table, grid_targets
 
 
 def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]]:
@@ -41,27 +41,54 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     did not collect, so the report says so)."""
     episodes = sorted({r["demonstrations"]["episodes"] for r in demonstrated})
     success = [r["demonstrations"]["success"] for r in demonstrated]
-    cloned = [r["demonstrations"]["behaviour_cloning"]["steps"] for r in demonstrated
-              if r["demonstrations"].get("behaviour_cloning")]
-    cloning = (f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
-               f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)." if cloned else "")
+    cloned = [
+        r["demonstrations"]["behaviour_cloning"]["steps"]
+        for r in demonstrated
+        if r["demonstrations"].get("behaviour_cloning")
+    ]
+    cloning = (
+        f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
+        f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)."
+        if cloned
+        else ""
+    )
     offline = [r["demonstrations"]["offline"]["steps"] for r in demonstrated if r["demonstrations"].get("offline")]
-    learned = (f" {len(offline)} of them took {', '.join(f'{s:,}' for s in sorted(set(offline)))} gradient steps of "
-               "the algorithm's own update on them alone before the first rollout." if offline else "")
-    losses = [(r["demonstrations"]["cloning_loss_weight"], r["demonstrations"].get("cloning_loss_q_filter", True),
-               r["demonstrations"].get("cloning_loss_sampled", False))
-              for r in demonstrated if r["demonstrations"].get("cloning_loss_weight")]
-    loss = (f" {len(losses)} of them kept a cloning loss on them in every actor update ("
-            + "; ".join(f"weight {w:g}, {'Q-filtered' if q else 'unfiltered'}{', on sampled actions' if a else ''}"
-                        for w, q, a in sorted(set(losses)))
-            + ")." if losses else "")
-    return (f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
-            f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
-            f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget."
-            f"{cloning}{learned}{loss}")
+    learned = (
+        f" {len(offline)} of them took {', '.join(f'{s:,}' for s in sorted(set(offline)))} gradient steps of "
+        "the algorithm's own update on them alone before the first rollout."
+        if offline
+        else ""
+    )
+    losses = [
+        (
+            r["demonstrations"]["cloning_loss_weight"],
+            r["demonstrations"].get("cloning_loss_q_filter", True),
+            r["demonstrations"].get("cloning_loss_sampled", False),
+        )
+        for r in demonstrated
+        if r["demonstrations"].get("cloning_loss_weight")
+    ]
+    loss = (
+        f" {len(losses)} of them kept a cloning loss on them in every actor update ("
+        + "; ".join(
+            f"weight {w:g}, {'Q-filtered' if q else 'unfiltered'}{', on sampled actions' if a else ''}"
+            for w, q, a in sorted(set(losses))
+        )
+        + ")."
+        if losses
+        else ""
+    )
+    return (
+        f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
+        f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
+        f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget."
+        f"{cloning}{learned}{loss}"
+    )
 
 
-def build_report(results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None) -> Path:
+def build_report(
+    results: Path, out: Path, command: str | None = None, dense_check: bool = True, claims: dict | None = None
+) -> Path:
     """Write ``report.md`` and figures for ``results`` into ``out``; return the Markdown path."""
     rows = read_results(results)
     out.mkdir(parents=True, exist_ok=True)
@@ -74,7 +101,14 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
     bench_cmd = (bench_dir / "command.txt").read_text().strip() if (bench_dir / "command.txt").is_file() else None
     if bench_cmd:
         lines += ["Runs:", "", "```bash", bench_cmd, "```", ""]
-    lines += ["This report:", "", "```bash", command or shlex.join(["unified-manip", "report", str(results)]), "```", ""]
+    lines += [
+        "This report:",
+        "",
+        "```bash",
+        command or shlex.join(["unified-manip", "report", str(results)]),
+        "```",
+        "",
+    ]
     budgets = sorted({r["steps"] for r in rows})
     seeds = sorted({r["seed"] for r in rows})
     versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
@@ -88,8 +122,13 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
         f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
         f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",
         *([_demonstrations_line(demonstrated, len(rows))] if demonstrated else []),
-        *([f"- Env keyword arguments of every run (the grid's `env_kwargs`): `{json.dumps(env_kwargs, sort_keys=True)}`."]
-          if env_kwargs else []),
+        *(
+            [
+                f"- Env keyword arguments of every run (the grid's `env_kwargs`): `{json.dumps(env_kwargs, sort_keys=True)}`."
+            ]
+            if env_kwargs
+            else []
+        ),
         "- Success rate: deterministic evaluation episodes at each evaluation point (SB3 `EvalCallback`); "
         "final = the last evaluation.",
         f"- Intervals: 95% percentile bootstrap over seeds (`scipy.stats.bootstrap`); IQM (rliable) only with "
@@ -104,7 +143,10 @@ def build_report(results: Path, out: Path, command: str | None = None, dense_che
 
     targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
-    lines += ["| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |", "|---|---|---|---|---:|---:|---|---|---|"]
+    lines += [
+        "| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |",
+        "|---|---|---|---|---:|---:|---|---|---|",
+    ]
     for task, groups in by_task.items():
         for (algo, mode, reward), runs in sorted(groups.items()):
             vals = [r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"])]
@@ -197,10 +239,14 @@ def _training_section(by_task: dict, runs_dir: Path, out: Path) -> list[str]:
     figs = [(task, plot_training(task, groups, runs_dir, out)) for task, groups in by_task.items()]
     if not any(fig for _, fig in figs):
         return []
-    lines = ["## Training episodes", "",
-             "Success and return over the last 100 training episodes (the exploring policy, not the "
-             "deterministic one evaluated above), from each run's TensorBoard log; mean over seeds, range "
-             "shaded.", ""]
+    lines = [
+        "## Training episodes",
+        "",
+        "Success and return over the last 100 training episodes (the exploring policy, not the "
+        "deterministic one evaluated above), from each run's TensorBoard log; mean over seeds, range "
+        "shaded.",
+        "",
+    ]
     return lines + [line for task, fig in figs if fig for line in (f"![{task} training]({fig.name})", "")]
 
 
@@ -222,10 +268,16 @@ def _ranking_table(columns: list[str], settings: dict[tuple[str, ...], list[floa
 
 def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
     """Measured final success beside claimed numbers (``claims``: label -> spec)."""
-    lines = ["| run | claimed success (budget) | measured mean final success [95% CI] (budget, seeds) |", "|---|---|---|"]
+    lines = [
+        "| run | claimed success (budget) | measured mean final success [95% CI] (budget, seeds) |",
+        "|---|---|---|",
+    ]
     for label, c in claims.items():
-        vals = [r["final_success_rate"] for r in rows
-                if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"] and r["task"] == c["task"]]
+        vals = [
+            r["final_success_rate"]
+            for r in rows
+            if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"] and r["task"] == c["task"]
+        ]
         if not vals:
             lines.append(f"| {label} | {c['claimed']} ({c['claimed_budget']}) | not run |")
             continue

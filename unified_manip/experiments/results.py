@@ -15,8 +15,18 @@ import yaml
 from unified_manip.training.rundir import CONFIG, read_status
 
 RESULT_COLUMNS = (
-    "run", "task", "action_mode", "reward_type", "algo", "seed", "steps", "final_success_rate",
-    "curve", "wall_time_s", "steps_per_s", "versions",
+    "run",
+    "task",
+    "action_mode",
+    "reward_type",
+    "algo",
+    "seed",
+    "steps",
+    "final_success_rate",
+    "curve",
+    "wall_time_s",
+    "steps_per_s",
+    "versions",
 )
 #: Written by the bench, absent from older files: the run's ``demonstrations.json``
 #: (episodes, transitions, success of the scripted episodes it started with), JSON or "".
@@ -40,7 +50,9 @@ def collect_row(run_dir: Path) -> dict[str, Any] | None:
     config = yaml.safe_load((run_dir / CONFIG).read_text())
     evaluations = np.load(run_dir / "eval" / "evaluations.npz")
     steps = evaluations["timesteps"].tolist()
-    success = evaluations["successes"].mean(axis=1).tolist() if "successes" in evaluations else [float("nan")] * len(steps)
+    success = (
+        evaluations["successes"].mean(axis=1).tolist() if "successes" in evaluations else [float("nan")] * len(steps)
+    )
     wall = float(status.get("wall_time_s", float("nan")))
     return {
         "run": run_dir.name,

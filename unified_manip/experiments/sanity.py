@@ -40,8 +40,12 @@ def sample_goal_pairs(env, n_goals: int, per_goal: int, rng: np.random.Generator
     """Desired goals from seeded resets; achieved goals around them at many distances."""
     spec = env.unwrapped.task
     thr = spec.distance_threshold
-    desired = np.array([env.reset(seed=int(s))[0]["desired_goal"] for s in rng.integers(0, 2**31, n_goals)], dtype=np.float64)
-    radii = thr * np.concatenate([np.linspace(0.0, 0.999, per_goal // 2), np.geomspace(1.001, 20.0, per_goal - per_goal // 2)])
+    desired = np.array(
+        [env.reset(seed=int(s))[0]["desired_goal"] for s in rng.integers(0, 2**31, n_goals)], dtype=np.float64
+    )
+    radii = thr * np.concatenate(
+        [np.linspace(0.0, 0.999, per_goal // 2), np.geomspace(1.001, 20.0, per_goal - per_goal // 2)]
+    )
     ag, dg = [], []
     for g in desired:
         directions = rng.normal(size=(len(radii), g.shape[0]))
@@ -74,7 +78,9 @@ def dense_reward_check(
     inside = distance < spec.distance_threshold
     best, worst = [], []
     for grasped, grip, action, dropped in ((1.0, 0.0, 0.0, 0.0), (0.0, 0.5, 4.0, 1.0)):
-        infos = np.array([{"grasped": grasped, "grip_to_object": grip, "action_sq": action, "dropped": dropped}] * n, dtype=object)
+        infos = np.array(
+            [{"grasped": grasped, "grip_to_object": grip, "action_sq": action, "dropped": dropped}] * n, dtype=object
+        )
         (best if grasped else worst).append(env.unwrapped.compute_reward(ag, dg, infos))
     rewards = np.maximum(best[0], worst[0])
     env.close()

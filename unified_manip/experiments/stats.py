@@ -24,8 +24,14 @@ def bootstrap_ci(values: list[float], seed: int = 0) -> tuple[float, float]:
         return float("nan"), float("nan")
     if np.all(data == data[0]):  # no spread: the interval is the point
         return float(data[0]), float(data[0])
-    res = bootstrap((data,), np.mean, confidence_level=CONFIDENCE, method="percentile", n_resamples=10_000,
-                    random_state=np.random.default_rng(seed))
+    res = bootstrap(
+        (data,),
+        np.mean,
+        confidence_level=CONFIDENCE,
+        method="percentile",
+        n_resamples=10_000,
+        random_state=np.random.default_rng(seed),
+    )
     return float(res.confidence_interval.low), float(res.confidence_interval.high)
 
 
@@ -46,4 +52,6 @@ def probability_of_improvement(x: list[float], y: list[float]) -> float:
     """P(X > Y) from rliable (ties count half)."""
     from rliable import metrics
 
-    return float(metrics.probability_of_improvement(np.asarray(x, float).reshape(-1, 1), np.asarray(y, float).reshape(-1, 1)))
+    return float(
+        metrics.probability_of_improvement(np.asarray(x, float).reshape(-1, 1), np.asarray(y, float).reshape(-1, 1))
+    )

@@ -117,7 +117,9 @@ def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...], ci)
         )
     missing = [t for t in targets if not any(k[0] == t.task and k[1] == t.action_mode for k in groups)]
     for t in missing:
-        lines.append(f"| {t.task.split('/')[-1]} | {t.action_mode} | — | — | — | 0 | not run yet | {t.success:.2f} | — | — | — | — | — |")
+        lines.append(
+            f"| {t.task.split('/')[-1]} | {t.action_mode} | — | — | — | 0 | not run yet | {t.success:.2f} | — | — | — | — | — |"
+        )
     lines += [
         "",
         "Steps to target: the first evaluation point whose success reaches the target (0.9 where a setting "

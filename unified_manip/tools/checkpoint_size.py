@@ -28,13 +28,18 @@ from pathlib import Path
 
 def _model(task: str, buffer_size: int, steps: int):
     from unified_manip.training.hyperparams import get_algo, resolve
-    from unified_manip.training.run_envs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+    from unified_manip.training.run_envs import make_vec_env
+    from unified_manip.training.run_envs import model_kwargs as _model_kwargs
+    from unified_manip.training.run_envs import normalized as _normalized
 
     params = resolve("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
     params.pop("device", None)
-    env = _normalized(make_vec_env(task, {"action_mode": "ee_delta", "reward_type": "sparse"}, 1, 0, None), params, None, True)
-    model = get_algo("sac_her").cls()(env=env, seed=0, device="cpu", verbose=0,
-                                      **_model_kwargs("sac_her", params, env.action_space.shape[0]))
+    env = _normalized(
+        make_vec_env(task, {"action_mode": "ee_delta", "reward_type": "sparse"}, 1, 0, None), params, None, True
+    )
+    model = get_algo("sac_her").cls()(
+        env=env, seed=0, device="cpu", verbose=0, **_model_kwargs("sac_her", params, env.action_space.shape[0])
+    )
     model.learn(steps)
     return model
 
@@ -58,6 +63,7 @@ def measure(task: str, buffer_size: int, steps: int, repeats: int) -> dict:
     model = _model(task, buffer_size, steps)
     work = Path(tempfile.mkdtemp(prefix="ckpt_size_"))
     try:
+
         def before() -> Path:
             d = work / "before"
             shutil.rmtree(d, ignore_errors=True)
@@ -79,11 +85,22 @@ def measure(task: str, buffer_size: int, steps: int, repeats: int) -> dict:
         fresh = _model(task, buffer_size, 1)
         t_load_after, _ = _timed(lambda: checkpoints.restore_replay_buffer(fresh, ckpt), repeats)
         return {
-            "task": task, "buffer_size": buffer_size, "steps": steps, "repeats": repeats,
-            "before": {"checkpoint_bytes": _size(d_before), "buffer_bytes": (d_before / "replay_buffer.pkl").stat().st_size,
-                       "write_s": t_before, "buffer_load_s": t_load_before},
-            "after": {"checkpoint_bytes": _size(d_after), "buffer_bytes": ckpt.path(checkpoints.REPLAY_BUFFER).stat().st_size,
-                      "write_s": t_after, "buffer_load_s": t_load_after},
+            "task": task,
+            "buffer_size": buffer_size,
+            "steps": steps,
+            "repeats": repeats,
+            "before": {
+                "checkpoint_bytes": _size(d_before),
+                "buffer_bytes": (d_before / "replay_buffer.pkl").stat().st_size,
+                "write_s": t_before,
+                "buffer_load_s": t_load_before,
+            },
+            "after": {
+                "checkpoint_bytes": _size(d_after),
+                "buffer_bytes": ckpt.path(checkpoints.REPLAY_BUFFER).stat().st_size,
+                "write_s": t_after,
+                "buffer_load_s": t_load_after,
+            },
         }
     finally:
         shutil.rmtree(work, ignore_errors=True)
@@ -97,9 +114,13 @@ def table(r: dict) -> str:
         ("checkpoint write time (s)", b["write_s"], a["write_s"]),
         ("replay buffer load time (s)", b["buffer_load_s"], a["buffer_load_s"]),
     ]
-    lines = [f"{r['task']}, sac_her, buffer_size {r['buffer_size']:,}, after {r['steps']:,} steps "
-             f"(median of {r['repeats']})", "", "| | before (whole buffer) | after (trimmed) | after / before |",
-             "|---|---:|---:|---:|"]
+    lines = [
+        f"{r['task']}, sac_her, buffer_size {r['buffer_size']:,}, after {r['steps']:,} steps "
+        f"(median of {r['repeats']})",
+        "",
+        "| | before (whole buffer) | after (trimmed) | after / before |",
+        "|---|---:|---:|---:|",
+    ]
     lines += [f"| {name} | {x:,.3f} | {y:,.3f} | {y / x:.3f} |" for name, x, y in rows]
     return "\n".join(lines)
 
@@ -111,13 +132,20 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.checkpoint_size", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m unified_manip.tools.checkpoint_size", description=__doc__.split("\n\n")[0]
+    )
     parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
     from unified_manip.envs.registry import TASKS
 
     ids = [t for t, spec in TASKS.items() if "ee_delta" in spec.action_modes]
-    parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", choices=ids, metavar="ID",
-                        help="a registered ID with ee_delta")
+    parser.add_argument(
+        "--task",
+        default="UnifiedManip/Arm4PickAndPlace-v0",
+        choices=ids,
+        metavar="ID",
+        help="a registered ID with ee_delta",
+    )
     parser.add_argument("--buffer-size", type=_positive, default=1_000_000)
     parser.add_argument("--steps", type=_positive, default=10_000)
     parser.add_argument("--repeats", type=_positive, default=3)

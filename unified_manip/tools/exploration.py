@@ -93,8 +93,19 @@ def measure(task_id: str, action_mode: str, episodes: int = 200, moved: float = 
     dt = float(env.unwrapped._backend.dt)  # noqa: SLF001
     env.close()
     per_step = 100.0 * travel / max(steps, 1)
-    return Exploration(task_id, action_mode, episodes, int(spec.max_episode_steps), dt, chance / episodes,
-                       final / episodes, moves / episodes, float(np.mean(disp)), per_step, per_step / dt)
+    return Exploration(
+        task_id,
+        action_mode,
+        episodes,
+        int(spec.max_episode_steps),
+        dt,
+        chance / episodes,
+        final / episodes,
+        moves / episodes,
+        float(np.mean(disp)),
+        per_step,
+        per_step / dt,
+    )
 
 
 def noisy_demonstrations(task_id: str, action_mode: str, sigma: float, episodes: int = 20, seed: int = 0) -> float:
@@ -172,20 +183,35 @@ def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
     print("| action mode | " + " | ".join(f"σ = {s:g}" for s in sigmas) + " |")
     print("|---|" + "---:|" * len(sigmas))
     for mode in modes:
-        print(f"| {mode} | " + " | ".join(f"{noisy_demonstrations(task_id, mode, s, episodes):.2f}" for s in sigmas) + " |")
+        print(
+            f"| {mode} | "
+            + " | ".join(f"{noisy_demonstrations(task_id, mode, s, episodes):.2f}" for s in sigmas)
+            + " |"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.exploration", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m unified_manip.tools.exploration", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--json", help="write the results here")
-    parser.add_argument("--noise", type=float, nargs="+", metavar="SIGMA",
-                        help="instead: the scripted policy's success in every shared action mode of --task, with "
-                             "Gaussian action noise of each std SIGMA")
-    parser.add_argument("--footprint", action="store_true",
-                        help="instead: the part of the action box the scripted policy of --task uses in every "
-                             "shared action mode")
-    parser.add_argument("--task", default="UnifiedManip/Arm4PickAndPlace-v0", help="the task of --noise and --footprint")
+    parser.add_argument(
+        "--noise",
+        type=float,
+        nargs="+",
+        metavar="SIGMA",
+        help="instead: the scripted policy's success in every shared action mode of --task, with "
+        "Gaussian action noise of each std SIGMA",
+    )
+    parser.add_argument(
+        "--footprint",
+        action="store_true",
+        help="instead: the part of the action box the scripted policy of --task uses in every shared action mode",
+    )
+    parser.add_argument(
+        "--task", default="UnifiedManip/Arm4PickAndPlace-v0", help="the task of --noise and --footprint"
+    )
     args = parser.parse_args(argv)
     if args.footprint:
         _footprint_table(args.task, args.episodes)
@@ -194,13 +220,17 @@ def main(argv: list[str] | None = None) -> int:
         _noise_table(args.task, args.noise, args.episodes)
         return 0
     rows = [measure(t, m, args.episodes) for t, m in DEFAULT_TASKS]
-    print("| task | mode | steps x dt | chance success | random success | object moved > 2 cm | "
-          "mean object displacement | gripper cm/step | gripper cm/s |")
+    print(
+        "| task | mode | steps x dt | chance success | random success | object moved > 2 cm | "
+        "mean object displacement | gripper cm/step | gripper cm/s |"
+    )
     print("|---|---|---|---:|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r.task_id.split('/')[-1]} | {r.action_mode} | {r.episode_steps} x {r.control_dt * 1000:.0f} ms | "
-              f"{r.chance_success:.3f} | {r.random_success:.3f} | {r.object_moved:.3f} | "
-              f"{100 * r.mean_object_displacement_m:.1f} cm | {r.gripper_cm_per_step:.2f} | {r.gripper_cm_per_s:.1f} |")
+        print(
+            f"| {r.task_id.split('/')[-1]} | {r.action_mode} | {r.episode_steps} x {r.control_dt * 1000:.0f} ms | "
+            f"{r.chance_success:.3f} | {r.random_success:.3f} | {r.object_moved:.3f} | "
+            f"{100 * r.mean_object_displacement_m:.1f} cm | {r.gripper_cm_per_step:.2f} | {r.gripper_cm_per_s:.1f} |"
+        )
     if args.json:
         Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
     return 0

@@ -45,23 +45,70 @@ _HER_PAPER = ("batch_size=256", "tau=0.05", "gamma=0.98", _NET3)
 #: The settings compared in docs/training_speed.md.
 LEVERS: tuple[Lever, ...] = (
     Lever("zoo", "tqc_her", (), 1, "rl-baselines3-zoo tqc.yml FetchPush: batch 2048, [512]*3, 1 update/step"),
-    Lever("sac-256x2", "sac_her", ("batch_size=256", "policy_kwargs.net_arch=[256, 256]"), 1,
-          "SB3 SAC defaults: batch 256, [256, 256], 1 update/step"),
-    Lever("her-paper", "sac_her", (*_HER_PAPER, "train_freq=100", "gradient_steps=40"), 1,
-          "HER paper: 40 updates of batch 256 per 2 episodes (0.4/step), [256]*3"),
-    Lever("her-paper-2env", "sac_her", (*_HER_PAPER, "train_freq=50", "gradient_steps=40"), 2,
-          "as her-paper with 2 envs collecting together"),
-    Lever("her-paper-0.2", "sac_her", (*_HER_PAPER, "train_freq=100", "gradient_steps=20"), 1,
-          "half the HER paper's updates (0.2/step)"),
-    Lever("her-paper-b512", "sac_her", ("batch_size=512", "tau=0.05", "gamma=0.98", _NET3, "train_freq=100", "gradient_steps=20"), 1,
-          "0.2 updates/step of batch 512: the same samples per step as her-paper"),
-    Lever("tqc-8env", "tqc_her", ("batch_size=512", "tau=0.05", "policy_kwargs.net_arch=[256, 256, 256]", "train_freq=1", "gradient_steps=2"), 8,
-          "TQC, 8 envs, 2 updates per 8 env steps, batch 512 (issue 10's early-learning runs)"),
-    Lever("tqc-her-paper", "tqc_her", ("batch_size=256", "tau=0.05", "gamma=0.98", "policy_kwargs.net_arch=[256, 256, 256]", "train_freq=100", "gradient_steps=40"), 1,
-          "TQC on the HER paper schedule"),
+    Lever(
+        "sac-256x2",
+        "sac_her",
+        ("batch_size=256", "policy_kwargs.net_arch=[256, 256]"),
+        1,
+        "SB3 SAC defaults: batch 256, [256, 256], 1 update/step",
+    ),
+    Lever(
+        "her-paper",
+        "sac_her",
+        (*_HER_PAPER, "train_freq=100", "gradient_steps=40"),
+        1,
+        "HER paper: 40 updates of batch 256 per 2 episodes (0.4/step), [256]*3",
+    ),
+    Lever(
+        "her-paper-2env",
+        "sac_her",
+        (*_HER_PAPER, "train_freq=50", "gradient_steps=40"),
+        2,
+        "as her-paper with 2 envs collecting together",
+    ),
+    Lever(
+        "her-paper-0.2",
+        "sac_her",
+        (*_HER_PAPER, "train_freq=100", "gradient_steps=20"),
+        1,
+        "half the HER paper's updates (0.2/step)",
+    ),
+    Lever(
+        "her-paper-b512",
+        "sac_her",
+        ("batch_size=512", "tau=0.05", "gamma=0.98", _NET3, "train_freq=100", "gradient_steps=20"),
+        1,
+        "0.2 updates/step of batch 512: the same samples per step as her-paper",
+    ),
+    Lever(
+        "tqc-8env",
+        "tqc_her",
+        ("batch_size=512", "tau=0.05", "policy_kwargs.net_arch=[256, 256, 256]", "train_freq=1", "gradient_steps=2"),
+        8,
+        "TQC, 8 envs, 2 updates per 8 env steps, batch 512 (issue 10's early-learning runs)",
+    ),
+    Lever(
+        "tqc-her-paper",
+        "tqc_her",
+        (
+            "batch_size=256",
+            "tau=0.05",
+            "gamma=0.98",
+            "policy_kwargs.net_arch=[256, 256, 256]",
+            "train_freq=100",
+            "gradient_steps=40",
+        ),
+        1,
+        "TQC on the HER paper schedule",
+    ),
     Lever("crossq", "crossq_her", (), 1, "sb3-contrib CrossQ defaults (pi [256,256], qf [1024,1024], 1 update/step)"),
-    Lever("crossq-0.4", "crossq_her", ("train_freq=100", "gradient_steps=40", "gamma=0.98"), 1,
-          "CrossQ on the HER paper schedule"),
+    Lever(
+        "crossq-0.4",
+        "crossq_her",
+        ("train_freq=100", "gradient_steps=40", "gamma=0.98"),
+        1,
+        "CrossQ on the HER paper schedule",
+    ),
 )
 
 
@@ -80,18 +127,35 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from unified_manip.training.hyperparams import get_algo, resolve
-    from unified_manip.training.run_envs import model_kwargs as _model_kwargs, normalized as _normalized
+    from unified_manip.training.run_envs import model_kwargs as _model_kwargs
+    from unified_manip.training.run_envs import normalized as _normalized
 
     algo = get_algo(lever.algo)
     params = resolve(lever.algo, task_id, lever.overrides + (f"learning_starts={warmup}", "buffer_size=100000"))
-    env = make_vec_env(task_id, n_envs=lever.n_envs, seed=seed, vec_env_cls=DummyVecEnv,
-                       env_kwargs={"action_mode": action_mode, "reward_type": "sparse"})
+    env = make_vec_env(
+        task_id,
+        n_envs=lever.n_envs,
+        seed=seed,
+        vec_env_cls=DummyVecEnv,
+        env_kwargs={"action_mode": action_mode, "reward_type": "sparse"},
+    )
     env = _normalized(env, params, None, training=True)
-    return algo.cls()(env=env, seed=seed, device=device, verbose=0, **_model_kwargs(lever.algo, params, env.action_space.shape[0]))
+    return algo.cls()(
+        env=env, seed=seed, device=device, verbose=0, **_model_kwargs(lever.algo, params, env.action_space.shape[0])
+    )
 
 
-def measure(task_id: str, action_mode: str, levers: tuple[Lever, ...] = LEVERS, seconds: float = 30.0,
-            rounds: int = 3, warmup: int = 1000, seed: int = 0, device: str = "cpu", log=print) -> list[LeverRate]:
+def measure(
+    task_id: str,
+    action_mode: str,
+    levers: tuple[Lever, ...] = LEVERS,
+    seconds: float = 30.0,
+    rounds: int = 3,
+    warmup: int = 1000,
+    seed: int = 0,
+    device: str = "cpu",
+    log=print,
+) -> list[LeverRate]:
     """Median training steps/s of each lever over ``rounds`` interleaved rounds.
 
     A round of a lever trains in chunks of 100 env steps (a whole update cycle of the
@@ -142,8 +206,14 @@ def main(argv: list[str] | None = None) -> int:
     for r in results:
         print(f"{r.lever.name:>16}  {r.steps_per_s:7.1f} steps/s   {r.lever.source}")
     if args.json:
-        doc = {"env": args.env, "action_mode": args.action_mode, "device": args.device, "seconds": args.seconds, "rounds": args.rounds,
-               "levers": [r.as_dict() for r in results]}
+        doc = {
+            "env": args.env,
+            "action_mode": args.action_mode,
+            "device": args.device,
+            "seconds": args.seconds,
+            "rounds": args.rounds,
+            "levers": [r.as_dict() for r in results],
+        }
         Path(args.json).write_text(json.dumps(doc, indent=2))
     return 0
 

@@ -34,8 +34,12 @@ import numpy as np
 RSS_LIMIT_MB = 50.0
 STEP_TASK = "UnifiedManip/Arm4PickAndPlace-v0"
 FRAME_TASKS = ("UnifiedManip/Arm4PickAndPlace-v0", "UnifiedManip/FetchPickAndPlace-v0", "UnifiedManip/Lift-v0")
-CYCLE_TASKS = ("UnifiedManip/Arm4PickAndPlace-v0", "UnifiedManip/FetchPickAndPlace-v0",
-               "UnifiedManip/HandManipulateBlock-v0", "UnifiedManip/Lift-v0")
+CYCLE_TASKS = (
+    "UnifiedManip/Arm4PickAndPlace-v0",
+    "UnifiedManip/FetchPickAndPlace-v0",
+    "UnifiedManip/HandManipulateBlock-v0",
+    "UnifiedManip/Lift-v0",
+)
 
 
 # ---------------------------------------------------------------------- process gauges
@@ -59,7 +63,9 @@ def threads() -> int:
 def gl_contexts() -> int:
     """Live MuJoCo GL contexts (``mujoco.egl`` / ``glfw`` / ``osmesa`` ``GLContext``)."""
     gc.collect()
-    return sum(1 for o in gc.get_objects() if type(o).__name__ == "GLContext" and type(o).__module__.startswith("mujoco"))
+    return sum(
+        1 for o in gc.get_objects() if type(o).__name__ == "GLContext" and type(o).__module__.startswith("mujoco")
+    )
 
 
 def _make(task: str, mode: str | None = None, **kwargs):
@@ -76,7 +82,9 @@ def _bar(total: int, desc: str, progress: bool, unit_scale: bool = False):
     """A progress bar on stderr (steps are counted in chunks, so it costs nothing measurable)."""
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit_scale=unit_scale, disable=not progress, dynamic_ncols=True, mininterval=1.0)
+    return tqdm(
+        total=total, desc=desc, unit_scale=unit_scale, disable=not progress, dynamic_ncols=True, mininterval=1.0
+    )
 
 
 # ---------------------------------------------------------------------- parts
@@ -108,10 +116,21 @@ def soak_steps(steps: int, seed: int = 0, progress: bool = False) -> list[dict[s
         growth = rss_mb() - start_rss
         env.close()
         bar.update(steps % 1000)
-        rows.append({"part": "steps", "task": STEP_TASK, "mode": mode, "count": steps, "episodes": episodes,
-                     "steps_per_s": steps / (time.perf_counter() - start), "rss_start_mb": start_rss,
-                     "rss_growth_mb": growth, "rss_peak_growth_mb": max(peak, growth), "sim_unstable": unstable,
-                     "ok": growth < RSS_LIMIT_MB and unstable == 0})
+        rows.append(
+            {
+                "part": "steps",
+                "task": STEP_TASK,
+                "mode": mode,
+                "count": steps,
+                "episodes": episodes,
+                "steps_per_s": steps / (time.perf_counter() - start),
+                "rss_start_mb": start_rss,
+                "rss_growth_mb": growth,
+                "rss_peak_growth_mb": max(peak, growth),
+                "sim_unstable": unstable,
+                "ok": growth < RSS_LIMIT_MB and unstable == 0,
+            }
+        )
     bar.close()
     return rows
 
@@ -136,9 +155,18 @@ def soak_frames(frames: int, size: int = 128, seed: int = 0, progress: bool = Fa
                 env.reset()
         growth = rss_mb() - start_rss
         env.close()
-        rows.append({"part": "frames", "task": task, "count": frames, "size": size,
-                     "frames_per_s": frames / (time.perf_counter() - start), "rss_start_mb": start_rss,
-                     "rss_growth_mb": growth, "ok": growth < RSS_LIMIT_MB})
+        rows.append(
+            {
+                "part": "frames",
+                "task": task,
+                "count": frames,
+                "size": size,
+                "frames_per_s": frames / (time.perf_counter() - start),
+                "rss_start_mb": start_rss,
+                "rss_growth_mb": growth,
+                "ok": growth < RSS_LIMIT_MB,
+            }
+        )
     return rows
 
 
@@ -148,6 +176,7 @@ def soak_cycles(cycles: int, warmup: int = 2, progress: bool = False) -> list[di
     rows = []
     bar = _bar(cycles * len(CYCLE_TASKS), "soak make/close cycles", progress)
     for task in CYCLE_TASKS:
+
         def cycle(i: int) -> None:
             env = _make(task, render_mode="rgb_array", render_width=64, render_height=64)
             env.reset(seed=i)
@@ -163,9 +192,18 @@ def soak_cycles(cycles: int, warmup: int = 2, progress: bool = False) -> list[di
             bar.update(1)
         seconds = time.perf_counter() - start
         after = {"fds": open_fds(), "threads": threads(), "gl_contexts": gl_contexts(), "rss_mb": rss_mb()}
-        rows.append({"part": "cycles", "task": task, "family": unified_manip.TASKS[task].family, "count": cycles,
-                     "cycles_per_s": cycles / seconds, "before": before, "after": after,
-                     "ok": after["fds"] <= before["fds"] and after["gl_contexts"] <= before["gl_contexts"]})
+        rows.append(
+            {
+                "part": "cycles",
+                "task": task,
+                "family": unified_manip.TASKS[task].family,
+                "count": cycles,
+                "cycles_per_s": cycles / seconds,
+                "before": before,
+                "after": after,
+                "ok": after["fds"] <= before["fds"] and after["gl_contexts"] <= before["gl_contexts"],
+            }
+        )
     bar.close()
     return rows
 
@@ -175,26 +213,42 @@ def tables(rows: list[dict[str, Any]]) -> str:
     out = []
     steps = [r for r in rows if r["part"] == "steps"]
     if steps:
-        out += ["| mode | steps | episodes | steps/s | RSS at start (MB) | growth (MB) | peak growth (MB) | sim_unstable | ok |",
-                "|---|---:|---:|---:|---:|---:|---:|---:|---|"]
-        out += [f"| {r['mode']} | {r['count']:,} | {r['episodes']:,} | {r['steps_per_s']:,.0f} | {r['rss_start_mb']:.0f} | "
-                f"{r['rss_growth_mb']:+.1f} | {r['rss_peak_growth_mb']:+.1f} | {r['sim_unstable']} | {_ok(r)} |" for r in steps]
+        out += [
+            "| mode | steps | episodes | steps/s | RSS at start (MB) | growth (MB) | peak growth (MB) | sim_unstable | ok |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---|",
+        ]
+        out += [
+            f"| {r['mode']} | {r['count']:,} | {r['episodes']:,} | {r['steps_per_s']:,.0f} | {r['rss_start_mb']:.0f} | "
+            f"{r['rss_growth_mb']:+.1f} | {r['rss_peak_growth_mb']:+.1f} | {r['sim_unstable']} | {_ok(r)} |"
+            for r in steps
+        ]
         out.append("")
     frames = [r for r in rows if r["part"] == "frames"]
     if frames:
-        out += ["| task | frames | size | frames/s | RSS at start (MB) | growth (MB) | ok |", "|---|---:|---:|---:|---:|---:|---|"]
-        out += [f"| {r['task']} | {r['count']:,} | {r['size']}x{r['size']} | {r['frames_per_s']:,.1f} | "
-                f"{r['rss_start_mb']:.0f} | {r['rss_growth_mb']:+.1f} | {_ok(r)} |" for r in frames]
+        out += [
+            "| task | frames | size | frames/s | RSS at start (MB) | growth (MB) | ok |",
+            "|---|---:|---:|---:|---:|---:|---|",
+        ]
+        out += [
+            f"| {r['task']} | {r['count']:,} | {r['size']}x{r['size']} | {r['frames_per_s']:,.1f} | "
+            f"{r['rss_start_mb']:.0f} | {r['rss_growth_mb']:+.1f} | {_ok(r)} |"
+            for r in frames
+        ]
         out.append("")
     cycles = [r for r in rows if r["part"] == "cycles"]
     if cycles:
-        out += ["| family | cycles | cycles/s | fds before → after | GL contexts before → after | threads before → after "
-                "| RSS growth (MB) | ok |", "|---|---:|---:|---|---|---|---:|---|"]
+        out += [
+            "| family | cycles | cycles/s | fds before → after | GL contexts before → after | threads before → after "
+            "| RSS growth (MB) | ok |",
+            "|---|---:|---:|---|---|---|---:|---|",
+        ]
         for r in cycles:
             b, a = r["before"], r["after"]
-            out.append(f"| {r['family']} | {r['count']:,} | {r['cycles_per_s']:.2f} | {b['fds']} → {a['fds']} | "
-                       f"{b['gl_contexts']} → {a['gl_contexts']} | {b['threads']} → {a['threads']} | "
-                       f"{a['rss_mb'] - b['rss_mb']:+.1f} | {_ok(r)} |")
+            out.append(
+                f"| {r['family']} | {r['count']:,} | {r['cycles_per_s']:.2f} | {b['fds']} → {a['fds']} | "
+                f"{b['gl_contexts']} → {a['gl_contexts']} | {b['threads']} → {a['threads']} | "
+                f"{a['rss_mb'] - b['rss_mb']:+.1f} | {_ok(r)} |"
+            )
     return "\n".join(out)
 
 
@@ -229,8 +283,11 @@ def main(argv: list[str] | None = None) -> int:
         _make(task).close()
     started = time.time()
     rows: list[dict[str, Any]] = []
-    for part, run, size in (("steps", soak_steps, args.steps), ("frames", soak_frames, args.frames),
-                            ("cycles", soak_cycles, args.cycles)):
+    for part, run, size in (
+        ("steps", soak_steps, args.steps),
+        ("frames", soak_frames, args.frames),
+        ("cycles", soak_cycles, args.cycles),
+    ):
         if part not in parts:
             continue
         new = run(size, progress=not args.no_progress)

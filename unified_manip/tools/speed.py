@@ -125,7 +125,7 @@ def _interleaved(ours, theirs, actions, horizon: int) -> tuple[float, float]:
     spent = [0.0, 0.0]
     envs = (ours, theirs)
     for i, a in enumerate(actions):
-        for k in ((0, 1) if i % 2 == 0 else (1, 0)):
+        for k in (0, 1) if i % 2 == 0 else (1, 0):
             start = clock()
             envs[k].step(a)
             spent[k] += clock() - start
@@ -135,7 +135,9 @@ def _interleaved(ours, theirs, actions, horizon: int) -> tuple[float, float]:
     return len(actions) / spent[0], len(actions) / spent[1]
 
 
-def compare_upstream(task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0, resets: int = 10) -> UpstreamResult:
+def compare_upstream(
+    task_id: str, steps: int = 2000, rounds: int = 5, seed: int = 0, resets: int = 10
+) -> UpstreamResult:
     """``native`` mode against the env it wraps (``TaskSpec.upstream_id``) on the same
     actions, one step of each in turn; the figure is the median of the per-round ratios
     (``rounds`` rounds of ``steps / rounds`` steps). Resets are timed the same way,

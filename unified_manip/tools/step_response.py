@@ -28,8 +28,11 @@ from unified_manip.tools.exploration import _grip_reader
 #: re-target from where the arm is (``*_delta``) or from the last target (``*_target_delta``),
 #: against Fetch's benchmark mode (``native``, mocap) and its ``ee_delta``.
 DEFAULT_CASES = (
-    *((f"UnifiedManip/Arm4Push-v{v}", mode) for v in (0, 1)
-      for mode in ("ee_delta", "ee_target_delta", "joint_delta", "joint_target_delta")),
+    *(
+        (f"UnifiedManip/Arm4Push-v{v}", mode)
+        for v in (0, 1)
+        for mode in ("ee_delta", "ee_target_delta", "joint_delta", "joint_target_delta")
+    ),
     ("UnifiedManip/FetchPush-v0", "native"),
     ("UnifiedManip/FetchPush-v0", "ee_delta"),
 )
@@ -86,24 +89,38 @@ def measure(task_id: str, action_mode: str, axis: int = 0, episodes: int = 5, st
     dt = float(env.unwrapped._backend.dt)  # noqa: SLF001 - measuring, not controlling
     env.close()
     s, p = float(np.mean(settled)), float(np.mean(peak))
-    return StepResponse(task_id, action_mode, axis, episodes, dt, 100 * s, 100 * p, p / s - 1.0 if s > 0 else 0.0,
-                        float(np.mean(settle)))
+    return StepResponse(
+        task_id,
+        action_mode,
+        axis,
+        episodes,
+        dt,
+        100 * s,
+        100 * p,
+        p / s - 1.0 if s > 0 else 0.0,
+        float(np.mean(settle)),
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.step_response", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m unified_manip.tools.step_response", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--episodes", type=int, default=5)
-    parser.add_argument("--axes", type=int, nargs="+", default=[0, 1], help="the action dimensions stepped, "
-                        "one at a time (default 0 1)")
+    parser.add_argument(
+        "--axes", type=int, nargs="+", default=[0, 1], help="the action dimensions stepped, one at a time (default 0 1)"
+    )
     parser.add_argument("--json", help="write the results here")
     args = parser.parse_args(argv)
     rows = [measure(t, m, axis, args.episodes) for t, m in DEFAULT_CASES for axis in args.axes]
     print("| task | mode | axis | dt | settled displacement | peak | overshoot | steps to settle (±5%) |")
     print("|---|---|---:|---:|---:|---:|---:|---:|")
     for r in rows:
-        print(f"| {r.task_id.split('/')[-1]} | {r.action_mode} | {r.axis} | {r.control_dt * 1000:.0f} ms | "
-              f"{r.settled_cm:.2f} cm | "
-              f"{r.peak_cm:.2f} cm | {100 * r.overshoot:.1f}% | {r.settle_steps:.1f} |")
+        print(
+            f"| {r.task_id.split('/')[-1]} | {r.action_mode} | {r.axis} | {r.control_dt * 1000:.0f} ms | "
+            f"{r.settled_cm:.2f} cm | "
+            f"{r.peak_cm:.2f} cm | {100 * r.overshoot:.1f}% | {r.settle_steps:.1f} |"
+        )
     if args.json:
         Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
     return 0

@@ -48,7 +48,9 @@ def _make(kind: str, task_id: str, mode: str, n: int, threads: int):
         mode_name = {"native": "vector_entry_point", "sync": "sync", "async": "async"}[kind]
         extra: dict[str, Any] = {"num_threads": threads} if kind == "native" else {}
         vector_kwargs = {"context": "fork"} if kind == "async" else None
-        env = gym.make_vec(task_id, num_envs=n, vectorization_mode=mode_name, vector_kwargs=vector_kwargs, **kwargs, **extra)
+        env = gym.make_vec(
+            task_id, num_envs=n, vectorization_mode=mode_name, vector_kwargs=vector_kwargs, **kwargs, **extra
+        )
         env.reset(seed=0)
         return env, env.step
     if kind == "native-sb3":
@@ -58,7 +60,9 @@ def _make(kind: str, task_id: str, mode: str, n: int, threads: int):
         from unified_manip.envs.vector.sb3 import NativeSB3VecEnv
 
         spec = gym.spec(task_id)
-        env = NativeSB3VecEnv(make_vector_env(n, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, threads, **kwargs))
+        env = NativeSB3VecEnv(
+            make_vector_env(n, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, threads, **kwargs)
+        )
     else:
         from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
@@ -144,8 +148,17 @@ def physics_rates(task_id: str, mode: str, n: int, threads: int, steps: int) -> 
     return {"thread pool": pool_rate, "mujoco.rollout": rollout_rate}
 
 
-def run(task_id: str, modes, sizes, kinds, threads, steps: int, rounds: int, physics: bool,
-        progress: Callable[[str], None] = lambda s: None) -> list[dict[str, Any]]:
+def run(
+    task_id: str,
+    modes,
+    sizes,
+    kinds,
+    threads,
+    steps: int,
+    rounds: int,
+    physics: bool,
+    progress: Callable[[str], None] = lambda s: None,
+) -> list[dict[str, Any]]:
     """Every mode x N x thread count x kind, plus the raw limit per mode: result rows.
 
     ``threads`` is a list of thread counts of the native env (the other kinds do not use
@@ -158,12 +171,19 @@ def run(task_id: str, modes, sizes, kinds, threads, steps: int, rounds: int, phy
             for t in threads:
                 samples: dict[str, list[float]] = {k: [] for k in kinds}
                 for r in range(rounds):
-                    order = kinds[r % len(kinds):] + kinds[: r % len(kinds)]
+                    order = kinds[r % len(kinds) :] + kinds[: r % len(kinds)]
                     for kind in order:
                         samples[kind].append(vector_rate(kind, task_id, mode, n, t, steps))
                 rates = {k: statistics.median(v) for k, v in samples.items()}
-                row = {"task": task_id, "mode": mode, "num_envs": n, "threads": t, "raw_one_thread": raw,
-                       "raw_limit": raw * t, **rates}
+                row = {
+                    "task": task_id,
+                    "mode": mode,
+                    "num_envs": n,
+                    "threads": t,
+                    "raw_one_thread": raw,
+                    "raw_limit": raw * t,
+                    **rates,
+                }
                 if physics:
                     row["physics"] = physics_rates(task_id, mode, n, t, steps)
                 rows.append(row)
@@ -185,14 +205,23 @@ def table(rows: list[dict[str, Any]]) -> str:
             cells.append(f"{row['native'] / row['raw_limit']:.2f}")
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
-    lines.append("Raw limit = threads x the single-thread physics rate: "
-                 + ", ".join(sorted({f"{r['mode']} {r['raw_one_thread']:,.0f}/s" for r in rows})) + ".")
+    lines.append(
+        "Raw limit = threads x the single-thread physics rate: "
+        + ", ".join(sorted({f"{r['mode']} {r['raw_one_thread']:,.0f}/s" for r in rows}))
+        + "."
+    )
     if "physics" in rows[0]:
-        lines += ["", "| mode | N | threads | physics: thread pool | mujoco.rollout | pool / rollout |", "|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            "| mode | N | threads | physics: thread pool | mujoco.rollout | pool / rollout |",
+            "|---|---|---|---|---|---|",
+        ]
         for row in rows:
             p = row["physics"]
-            lines.append(f"| {row['mode']} | {row['num_envs']} | {row['threads']} | {p['thread pool']:,.0f} | {p['mujoco.rollout']:,.0f} | "
-                         f"{p['thread pool'] / p['mujoco.rollout']:.2f} |")
+            lines.append(
+                f"| {row['mode']} | {row['num_envs']} | {row['threads']} | {p['thread pool']:,.0f} | {p['mujoco.rollout']:,.0f} | "
+                f"{p['thread pool'] / p['mujoco.rollout']:.2f} |"
+            )
     return "\n".join(lines)
 
 
@@ -211,14 +240,22 @@ def main(argv: list[str] | None = None) -> int:
 
     p = argparse.ArgumentParser(prog="python -m unified_manip.tools.vector_bench", description=__doc__.split("\n\n")[0])
     p.add_argument("--env", default="UnifiedManip/Arm4PickAndPlace-v0", help="task ID")
-    p.add_argument("--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes")
+    p.add_argument(
+        "--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes"
+    )
     p.add_argument("--num-envs", type=_csv(int), default=[1, 2, 4, 8, 16, 32], help="comma-separated N")
     p.add_argument("--kinds", type=_csv(str), default=list(KINDS), help=f"comma-separated, from {','.join(KINDS)}")
-    p.add_argument("--threads", type=_csv(int), default=[default_num_threads()],
-                   help="comma-separated thread counts of the native env (default: the usable cores); several give the scaling")
+    p.add_argument(
+        "--threads",
+        type=_csv(int),
+        default=[default_num_threads()],
+        help="comma-separated thread counts of the native env (default: the usable cores); several give the scaling",
+    )
     p.add_argument("--steps", type=int, default=3000, help="env steps per measurement (over all N envs)")
     p.add_argument("--rounds", type=int, default=3, help="measurements per figure (the median is reported)")
-    p.add_argument("--physics", action="store_true", help="also time the physics alone: thread pool against mujoco.rollout")
+    p.add_argument(
+        "--physics", action="store_true", help="also time the physics alone: thread pool against mujoco.rollout"
+    )
     p.add_argument("--json", help="also write the rows to this JSON file")
     args = p.parse_args(argv)
     import unified_manip
@@ -228,7 +265,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.env not in unified_manip.TASKS:
         problems.append(f"unknown task {args.env!r}; expected one of {', '.join(unified_manip.TASKS)}")
     elif any(m not in unified_manip.TASKS[args.env].action_modes for m in args.modes):
-        problems.append(f"--modes must be from {', '.join(unified_manip.TASKS[args.env].action_modes)}, got {','.join(args.modes)}")
+        problems.append(
+            f"--modes must be from {', '.join(unified_manip.TASKS[args.env].action_modes)}, got {','.join(args.modes)}"
+        )
     if bad:
         problems.append(f"unknown kinds {bad}; expected from {', '.join(KINDS)}")
     if min(args.num_envs, default=0) < 1 or min(args.threads, default=0) < 1 or args.steps < 1 or args.rounds < 1:
@@ -236,8 +275,17 @@ def main(argv: list[str] | None = None) -> int:
     if problems:
         print(f"error: {problems[0]}", file=sys.stderr)
         return 2
-    rows = run(args.env, args.modes, args.num_envs, list(args.kinds), args.threads, args.steps, args.rounds, args.physics,
-               progress=lambda s: print(s, file=sys.stderr, flush=True))
+    rows = run(
+        args.env,
+        args.modes,
+        args.num_envs,
+        list(args.kinds),
+        args.threads,
+        args.steps,
+        args.rounds,
+        args.physics,
+        progress=lambda s: print(s, file=sys.stderr, flush=True),
+    )
     print(table(rows))
     if args.json:  # written whole or not at all
         tmp = f"{args.json}.tmp"

@@ -59,8 +59,11 @@ class StopOnSignal(BaseCallback):
         if self.requested:
             raise KeyboardInterrupt
         self.requested = True
-        os.write(2, b"stopping at the next rollout boundary, after any evaluation in progress, to write a checkpoint"
-                 b" (interrupt again to stop at once, without one)\n")
+        os.write(
+            2,
+            b"stopping at the next rollout boundary, after any evaluation in progress, to write a checkpoint"
+            b" (interrupt again to stop at once, without one)\n",
+        )
 
     def _on_rollout_start(self) -> None:
         if self.requested:
@@ -100,7 +103,9 @@ class Checkpoint(BaseCallback):
         # schedule of an uninterrupted one (10k, 20k, ...), not one shifted by its resume step.
         if self.num_timesteps // self.freq > self.last // self.freq:
             checkpoints.write(self.model, self.run_dir, self.off_policy)
-            write_status(self.run_dir, state="running", num_timesteps=int(self.num_timesteps), wall_time_s=self.elapsed())
+            write_status(
+                self.run_dir, state="running", num_timesteps=int(self.num_timesteps), wall_time_s=self.elapsed()
+            )
             self.last = self.num_timesteps
 
 
@@ -115,7 +120,9 @@ class Progress(BaseCallback):
     def _on_training_start(self) -> None:
         from tqdm import tqdm
 
-        self.bar = tqdm(total=self.total, initial=self.num_timesteps, unit="step", dynamic_ncols=True, disable=not self.show)
+        self.bar = tqdm(
+            total=self.total, initial=self.num_timesteps, unit="step", dynamic_ncols=True, disable=not self.show
+        )
 
     def _on_step(self) -> bool:
         self.bar.update(self.num_timesteps - self.bar.n)
@@ -216,9 +223,19 @@ def resume_evaluations(evaluation: EvalCallback, path: Path, upto: int) -> None:
         evaluation.best_mean_reward = float(max(np.mean(r) for r in evaluation.evaluations_results))
 
 
-def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, off_policy: bool, progress: bool,
-                   scales: Mapping[str, float], elapsed: Callable[[], float], resumed_at: int = 0,
-                   n_envs: int = 1, stop: StopOnSignal | None = None) -> CallbackList:
+def make_callbacks(
+    total: int,
+    run_dir: Path,
+    params: dict[str, Any],
+    eval_env,
+    off_policy: bool,
+    progress: bool,
+    scales: Mapping[str, float],
+    elapsed: Callable[[], float],
+    resumed_at: int = 0,
+    n_envs: int = 1,
+    stop: StopOnSignal | None = None,
+) -> CallbackList:
     """The callbacks of a run that trains to ``total`` env steps; ``elapsed()`` is the
     run's wall time so far (all segments), recorded at each checkpoint.
 
@@ -243,11 +260,13 @@ def make_callbacks(total: int, run_dir: Path, params: dict[str, Any], eval_env, 
         # on from the resume step keeps the evaluation points of an uninterrupted run, the
         # last one at the budget.
         evaluation.n_calls = resumed_at // max(n_envs, 1)
-    return CallbackList([
-        *([stop] if stop is not None else []),
-        RewardTerms(scales),
-        SuccessRate(off_policy),
-        Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy, elapsed),
-        evaluation,
-        Progress(total, progress),
-    ])
+    return CallbackList(
+        [
+            *([stop] if stop is not None else []),
+            RewardTerms(scales),
+            SuccessRate(off_policy),
+            Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy, elapsed),
+            evaluation,
+            Progress(total, progress),
+        ]
+    )

@@ -152,7 +152,9 @@ def published(run_dir: Path) -> list[Checkpoint]:
             try:
                 manifest = json.loads((directory / MANIFEST).read_text())
                 digests = {k: dict(v) for k, v in manifest["files"].items()}
-                found.append(Checkpoint(directory, int(manifest["num_timesteps"]), {k: directory / k for k in digests}, digests))
+                found.append(
+                    Checkpoint(directory, int(manifest["num_timesteps"]), {k: directory / k for k in digests}, digests)
+                )
             except (OSError, ValueError, KeyError, TypeError, AttributeError):
                 continue
         legacy = _legacy(root)
@@ -193,7 +195,9 @@ def verify(ckpt: Checkpoint) -> None:
             continue
         size = path.stat().st_size
         if size != expected["size"]:
-            raise CheckpointError(f"{path}: {size} bytes, the manifest says {expected['size']} (truncated or overwritten)")
+            raise CheckpointError(
+                f"{path}: {size} bytes, the manifest says {expected['size']} (truncated or overwritten)"
+            )
         with open(path, "rb") as f:
             if hashlib.file_digest(f, "sha256").hexdigest() != expected["sha256"]:
                 raise CheckpointError(f"{path}: contents differ from the manifest's SHA-256 (corrupted)")
@@ -254,6 +258,8 @@ def load_first_good(
             return result, ckpt
         reasons.append(why)
         if i + 1 < len(candidates):
-            warn(f"warning: checkpoint at step {ckpt.step} cannot be loaded ({why}); "
-                 f"falling back to the checkpoint at step {candidates[i + 1].step}")
+            warn(
+                f"warning: checkpoint at step {ckpt.step} cannot be loaded ({why}); "
+                f"falling back to the checkpoint at step {candidates[i + 1].step}"
+            )
     raise CheckpointError("; ".join(reasons))

@@ -53,8 +53,9 @@ def check(bc_weight: float, demonstrations: int, q_filter: bool = True, sampled:
     if not bc_weight >= 0:
         raise CloningLossError(f"bc_weight must be a loss weight, 0 or more; got {bc_weight}")
     if bc_weight and not demonstrations:
-        raise CloningLossError(f"bc_weight={bc_weight} imitates the demonstrations; set demonstrations to 1 or more "
-                               "episodes")
+        raise CloningLossError(
+            f"bc_weight={bc_weight} imitates the demonstrations; set demonstrations to 1 or more episodes"
+        )
 
 
 def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = True, sampled: bool = False):
@@ -68,15 +69,19 @@ def attach(model, transitions: int, steps: int, weight: float, q_filter: bool = 
     ``sampled`` is asked of a deterministic actor.
     """
     if sampled and not hasattr(model.actor, "action_dist"):
-        raise CloningLossError(f"bc_sampled=true needs a stochastic actor (SAC, TQC, CrossQ); "
-                               f"{type(model).__name__}'s actor is deterministic")
+        raise CloningLossError(
+            f"bc_sampled=true needs a stochastic actor (SAC, TQC, CrossQ); "
+            f"{type(model).__name__}'s actor is deterministic"
+        )
     buffer = model.replay_buffer
     rows = transitions // buffer.n_envs
     needed = rows + -(-steps // buffer.n_envs)
     if buffer.buffer_size < needed:
-        raise CloningLossError(f"bc_weight needs the demonstrations kept in the replay buffer: buffer_size must be at "
-                               f"least {needed * buffer.n_envs} transitions ({transitions} demonstrated + {steps} "
-                               f"steps); got {buffer.buffer_size * buffer.n_envs}")
+        raise CloningLossError(
+            f"bc_weight needs the demonstrations kept in the replay buffer: buffer_size must be at "
+            f"least {needed * buffer.n_envs} transitions ({transitions} demonstrated + {steps} "
+            f"steps); got {buffer.buffer_size * buffer.n_envs}"
+        )
     loss = _Cloning(model, rows, weight, q_filter, sampled)
     return model.actor.optimizer.register_step_pre_hook(lambda optimizer, args, kwargs: loss.backward())
 
@@ -94,8 +99,11 @@ class _Cloning:
         observations, actions = self._batch()
         mine = model.policy._predict(observations, deterministic=not self.sampled)  # sampled: rsample
         with torch.no_grad():
-            better = (self._q(observations, actions) > self._q(observations, mine) if self.q_filter
-                      else torch.ones(len(actions), dtype=torch.bool, device=actions.device))
+            better = (
+                self._q(observations, actions) > self._q(observations, mine)
+                if self.q_filter
+                else torch.ones(len(actions), dtype=torch.bool, device=actions.device)
+            )
         errors = ((mine - actions) ** 2).sum(dim=1)
         loss = self.weight * (better.float() * errors).mean()
         loss.backward()
@@ -108,10 +116,13 @@ class _Cloning:
         buffer = model.replay_buffer
         rows = np.random.randint(0, self.rows, size=model.batch_size)
         envs = np.random.randint(0, buffer.n_envs, size=model.batch_size)
-        observations = buffer._normalize_obs({key: value[rows, envs] for key, value in buffer.observations.items()},
-                                             model._vec_normalize_env)  # as the buffer's own samples are
-        return ({key: buffer.to_torch(value) for key, value in observations.items()},
-                buffer.to_torch(buffer.actions[rows, envs]))
+        observations = buffer._normalize_obs(
+            {key: value[rows, envs] for key, value in buffer.observations.items()}, model._vec_normalize_env
+        )  # as the buffer's own samples are
+        return (
+            {key: buffer.to_torch(value) for key, value in observations.items()},
+            buffer.to_torch(buffer.actions[rows, envs]),
+        )
 
     def _q(self, observations, actions):
         import torch

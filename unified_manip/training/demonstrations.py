@@ -31,8 +31,8 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     (0: none): an off-policy algorithm (a replay buffer), a task with a scripted policy,
     and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
     can be translated into)."""
-    from unified_manip.training.hyperparams import ALGOS
     from unified_manip.envs.registry import get_task
+    from unified_manip.training.hyperparams import ALGOS
 
     if episodes < 0:
         raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")

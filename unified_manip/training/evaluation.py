@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.envs.registry import get_task
 from unified_manip.training import rundir
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.hyperparams import get_algo
-from unified_manip.envs.registry import get_task
 from unified_manip.training.request import TrainError
 from unified_manip.training.rundir import RunDirectoryError
 
@@ -111,7 +111,15 @@ def evaluate(
     if video:
         write_video(Path(video), frames, fps=get_task(config["env"]).render_fps)
     ci = binomtest(successes, episodes).proportion_ci(confidence_level=0.95, method="wilson")
-    return EvalResult(episodes, successes, successes / episodes, float(ci.low), float(ci.high), float(np.mean(returns)), float(np.std(returns)))
+    return EvalResult(
+        episodes,
+        successes,
+        successes / episodes,
+        float(ci.low),
+        float(ci.high),
+        float(np.mean(returns)),
+        float(np.std(returns)),
+    )
 
 
 def _stats_for(model_path: Path, run_dir: Path) -> Path:

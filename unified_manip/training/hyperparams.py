@@ -106,7 +106,13 @@ ALGOS: dict[str, Algo] = {
         Algo("td3", "stable_baselines3", "TD3"),
         Algo("sac_her", "stable_baselines3", "SAC", her=True),
         Algo("tqc_her", "sb3_contrib", "TQC", her=True),
-        Algo("crossq_her", "unified_manip.training.crossq", "CrossQ", her=True, buffer="unified_manip.training.crossq:CatDictHerReplayBuffer"),
+        Algo(
+            "crossq_her",
+            "unified_manip.training.crossq",
+            "CrossQ",
+            her=True,
+            buffer="unified_manip.training.crossq:CatDictHerReplayBuffer",
+        ),
     )
 }
 
@@ -141,8 +147,17 @@ def _signature_types(algo: Algo) -> dict[str, tuple[type, ...] | None]:
     params = inspect.signature(algo.cls().__init__).parameters
     # Objects (not YAML literals) and the settings the CLI owns.
     skip = {
-        "self", "env", "replay_buffer_class", "action_noise", "rollout_buffer_class", "rollout_buffer_kwargs",
-        "_init_setup_model", "device", "seed", "tensorboard_log", "verbose",
+        "self",
+        "env",
+        "replay_buffer_class",
+        "action_noise",
+        "rollout_buffer_class",
+        "rollout_buffer_kwargs",
+        "_init_setup_model",
+        "device",
+        "seed",
+        "tensorboard_log",
+        "verbose",
     }
     return {k: _allowed_types(p.annotation) for k, p in params.items() if k not in skip}
 
@@ -213,8 +228,13 @@ def _names_a_task(key: str) -> bool:
     return task_id in TASKS and (mode is None or mode in TASKS[task_id].action_modes)
 
 
-def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), directory: Path | None = None,
-            action_mode: str | None = None) -> dict[str, Any]:
+def resolve(
+    algo_name: str,
+    task_id: str,
+    overrides: tuple[str, ...] = (),
+    directory: Path | None = None,
+    action_mode: str | None = None,
+) -> dict[str, Any]:
     """The hyperparameters for ``task_id``: default entry, task entry, the task's entry for
     ``action_mode`` (where the file has one: a recipe that holds in some modes only), then
     overrides."""
@@ -231,9 +251,7 @@ def resolve(algo_name: str, task_id: str, overrides: tuple[str, ...] = (), direc
                 f"{algo.name}.yaml: unknown hyperparameter {key!r} for {algo.cls_name}; expected one of {', '.join(sorted(keys))}"
             )
         if not _type_ok(value, keys[key]):
-            raise HyperparameterError(
-                f"{algo.name}.yaml: {key} must be {_type_names(keys[key])}, got {value!r}"
-            )
+            raise HyperparameterError(f"{algo.name}.yaml: {key} must be {_type_names(keys[key])}, got {value!r}")
     for item in overrides:
         apply_override(params, item, keys)
     if "n_envs" in params and params["n_envs"] < 1:
@@ -283,7 +301,9 @@ def apply_override(params: dict[str, Any], item: str, keys: dict[str, tuple[type
     if len(path) == 1:
         allowed = keys.get(top)
         if not _type_ok(value, allowed):
-            raise HyperparameterError(f"--set {item!r}: {top} must be {_type_names(allowed)}, got {type(value).__name__}")
+            raise HyperparameterError(
+                f"--set {item!r}: {top} must be {_type_names(allowed)}, got {type(value).__name__}"
+            )
         params[top] = value
         return
     target = params.get(top)

@@ -32,13 +32,21 @@ def check(offline_steps: int, demonstrations: int) -> None:
     if offline_steps < 0:
         raise OfflineError(f"offline_steps must be a number of gradient steps, 0 or more; got {offline_steps}")
     if offline_steps and not demonstrations:
-        raise OfflineError(f"offline_steps={offline_steps} learns from the demonstrations alone; set demonstrations "
-                           "to 1 or more episodes")
+        raise OfflineError(
+            f"offline_steps={offline_steps} learns from the demonstrations alone; set demonstrations "
+            "to 1 or more episodes"
+        )
 
 
 #: Logged by the update (and by the cloning loss), recorded at the first and last step.
-RECORDED = ("train/critic_loss", "train/actor_loss", "train/ent_coef", "train/bc_loss", "train/bc_q_filter",
-            "train/bc_error")
+RECORDED = (
+    "train/critic_loss",
+    "train/actor_loss",
+    "train/ent_coef",
+    "train/bc_loss",
+    "train/bc_q_filter",
+    "train/bc_error",
+)
 
 
 #: Updates between progress-bar refreshes (the update itself runs in chunks of this many).
@@ -76,8 +84,13 @@ def learn_offline(model, steps: int, progress: bool = False) -> dict[str, Any]:
     with tqdm(total=steps, desc="offline steps", unit="update", disable=not progress, dynamic_ncols=True) as bar:
         for chunk in _chunks(steps):
             model.train(gradient_steps=chunk, batch_size=model.batch_size)
-            seen.append({name: float(model.logger.name_to_value[name]) for name in RECORDED
-                         if name in model.logger.name_to_value})
+            seen.append(
+                {
+                    name: float(model.logger.name_to_value[name])
+                    for name in RECORDED
+                    if name in model.logger.name_to_value
+                }
+            )
             model.logger.dump()  # the next chunk's values alone
             bar.update(chunk)
     return {"steps": steps, "first": seen[0] if seen else {}, "last": seen[-1] if seen else {}}

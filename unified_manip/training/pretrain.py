@@ -50,8 +50,9 @@ def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dic
     check_demonstrations(task_id, action_mode, off_policy, episodes)
     check(params.get("bc_steps", 0), episodes)
     check_offline(params.get("offline_steps", 0), episodes)
-    check_cloning_loss(params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True),
-                       params.get("bc_sampled", False))
+    check_cloning_loss(
+        params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True), params.get("bc_sampled", False)
+    )
 
 
 #: Demonstrated actions at the edge of the box (a gripper's -1 or +1) are fitted as this
@@ -85,8 +86,11 @@ def seed_statistics(model) -> None:
     if venv is None or not venv.norm_obs:
         return
     rows = buffer.size()
-    pairs = ([(venv.obs_rms[k], buffer.observations[k]) for k in venv.norm_obs_keys] if isinstance(venv.obs_rms, dict)
-             else [(venv.obs_rms, buffer.observations)])
+    pairs = (
+        [(venv.obs_rms[k], buffer.observations[k]) for k in venv.norm_obs_keys]
+        if isinstance(venv.obs_rms, dict)
+        else [(venv.obs_rms, buffer.observations)]
+    )
     for stats, values in pairs:  # stored as (rows, n_envs, ...)
         stats.update(values[:rows].reshape(-1, *values.shape[2:]))
 

@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from unified_manip.envs.registry import get_task
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS
-from unified_manip.envs.registry import get_task
 
 
 class TrainError(ValueError):

@@ -14,8 +14,9 @@ from unified_manip.training.hyperparams import RUN_KEYS, get_algo
 from unified_manip.training.request import TrainError, TrainRequest
 
 
-def make_vec_env(env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
-                 vec: str = "auto"):
+def make_vec_env(
+    env_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None, vec: str = "auto"
+):
     """Monitored envs (``is_success`` logged), stepped as ``vec`` says: the native vector
     env (one ``VecMonitor``), or a ``DummyVecEnv`` / ``SubprocVecEnv`` of ``Monitor``-ed
     envs (see :func:`unified_manip.envs.vector.factory.resolve_vec` for ``auto``)."""
@@ -47,8 +48,9 @@ def _worker_env(env_id: str, **kwargs):
     """The env of a ``SubprocVecEnv`` worker. The worker ignores Ctrl-C: a terminal sends
     it to the whole process group, SB3's worker exits on it, and the trainer, which stops
     at the end of its rollout to checkpoint, would find its envs gone."""
-    import gymnasium as gym
     import signal
+
+    import gymnasium as gym
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     return gym.make(env_id, **kwargs)

@@ -40,8 +40,17 @@ from unified_manip.training.runlock import LOCK_FILE, DirectoryInUse, DirectoryL
 STATUS = "status.json"
 CONFIG = "config.yaml"
 #: What a run writes besides config.yaml and the lock (what ``--restart`` removes).
-OUTPUTS = ("checkpoints", "monitor", "eval", "best", "tb", "final_model.zip", "replay_buffer.pkl", "vecnormalize.pkl",
-           STATUS)
+OUTPUTS = (
+    "checkpoints",
+    "monitor",
+    "eval",
+    "best",
+    "tb",
+    "final_model.zip",
+    "replay_buffer.pkl",
+    "vecnormalize.pkl",
+    STATUS,
+)
 
 
 #: The config.yaml keys that must match for a directory to hold the same run (the
@@ -56,7 +65,18 @@ class RunDirectoryError(ValueError):
 def package_versions() -> dict[str, str]:
     from importlib.metadata import version
 
-    names = ("unified_manip", "mujoco", "gymnasium", "gymnasium-robotics", "robosuite", "stable-baselines3", "sb3-contrib", "torch", "numpy", "mink")
+    names = (
+        "unified_manip",
+        "mujoco",
+        "gymnasium",
+        "gymnasium-robotics",
+        "robosuite",
+        "stable-baselines3",
+        "sb3-contrib",
+        "torch",
+        "numpy",
+        "mink",
+    )
     out = {"python": platform.python_version()}
     for n in names:
         try:
@@ -66,7 +86,9 @@ def package_versions() -> dict[str, str]:
     return out
 
 
-def config_document(req: Any, n_envs: int, params: dict[str, Any], argv: list[str] | None, device: str) -> dict[str, Any]:
+def config_document(
+    req: Any, n_envs: int, params: dict[str, Any], argv: list[str] | None, device: str
+) -> dict[str, Any]:
     """The config.yaml of the run ``req`` (a :class:`~unified_manip.training.request.TrainRequest`)
     with ``n_envs`` training envs."""
     return {

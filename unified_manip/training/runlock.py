@@ -95,7 +95,9 @@ class DirectoryLock:
         if owner is None:  # the owner has not written its name yet
             return f"{self.what} {self.directory} is in use by another process"
         started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(owner["started"]))
-        return f"{self.what} {self.directory} is in use by pid {owner['pid']} on host {owner['host']} (started {started})"
+        return (
+            f"{self.what} {self.directory} is in use by pid {owner['pid']} on host {owner['host']} (started {started})"
+        )
 
 
 def read_owner(directory: Path) -> dict | None:

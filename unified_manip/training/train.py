@@ -20,24 +20,49 @@ from typing import Any
 
 import yaml
 
-from unified_manip.training import checkpoints
-from unified_manip.training import rundir
+from unified_manip.envs.registry import get_task
+from unified_manip.training import checkpoints, rundir
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
 from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve
-from unified_manip.envs.registry import get_task
 from unified_manip.training.request import TrainError, TrainRequest
-from unified_manip.training.rundir import CONFIG, STATUS, RunDirectoryError, read_config, read_status, write_atomic, write_status
-from unified_manip.training.run_envs import make_vec_env, model_kwargs as _model_kwargs, normalized as _normalized
+from unified_manip.training.run_envs import make_vec_env
+from unified_manip.training.run_envs import model_kwargs as _model_kwargs
+from unified_manip.training.run_envs import normalized as _normalized
+from unified_manip.training.rundir import (
+    CONFIG,
+    STATUS,
+    RunDirectoryError,
+    read_config,
+    read_status,
+    write_atomic,
+    write_status,
+)
 
 __all__ = [
-    "CONFIG", "STATUS", "EvalResult", "RunDirectoryError", "TrainError", "TrainRequest", "evaluate", "make_vec_env",
-    "read_config", "read_status", "train", "write_atomic", "write_status", "write_video",
+    "CONFIG",
+    "STATUS",
+    "EvalResult",
+    "RunDirectoryError",
+    "TrainError",
+    "TrainRequest",
+    "evaluate",
+    "make_vec_env",
+    "read_config",
+    "read_status",
+    "train",
+    "write_atomic",
+    "write_status",
+    "write_video",
 ]
 
 
 def train(
-    req: TrainRequest, argv: list[str] | None = None, progress: bool = True, log=print, threads: int | None = None,
+    req: TrainRequest,
+    argv: list[str] | None = None,
+    progress: bool = True,
+    log=print,
+    threads: int | None = None,
     lock_wait_s: float = 0.0,
 ) -> dict[str, Any]:
     """Train (or resume, or skip if finished) the run ``req`` describes.
@@ -66,7 +91,6 @@ def train(
     file_n_envs = params.pop("n_envs", 1)
     n_envs = req.n_envs if req.n_envs is not None else file_n_envs
     from unified_manip.envs.vector.factory import resolve_vec
-
     from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 
     try:
@@ -84,8 +108,17 @@ def train(
         raise TrainError(str(err)) from None
 
 
-def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str, Any], params: dict[str, Any],
-                 device: str, progress: bool, log, threads: int | None) -> dict[str, Any]:
+def _train_owned(
+    req: TrainRequest,
+    n_envs: int,
+    run_dir: Path,
+    config: dict[str, Any],
+    params: dict[str, Any],
+    device: str,
+    progress: bool,
+    log,
+    threads: int | None,
+) -> dict[str, Any]:
     import shutil
 
     import torch
@@ -114,7 +147,9 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
         for sub in ("monitor", "eval", "best", "tb"):
             shutil.rmtree(run_dir / sub, ignore_errors=True)
     segment = len(list((run_dir / "monitor").glob("seg*"))) if (run_dir / "monitor").is_dir() else 0
-    raw_env = make_vec_env(req.env, req.env_config(), n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec)
+    raw_env = make_vec_env(
+        req.env, req.env_config(), n_envs, req.seed + 1000 * segment, run_dir / "monitor" / f"seg{segment}", req.vec
+    )
     cls = algo.cls()
     started = time.time()
     elapsed_before = float((status or {}).get("wall_time_s", 0.0))
@@ -122,10 +157,19 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
     def load(ckpt: checkpoints.Checkpoint):
         stats = ckpt.path(checkpoints.VECNORMALIZE)
         if params.get("normalize") and stats is None:
-            raise checkpoints.CheckpointError(f"{ckpt.directory}: no observation statistics (vecnormalize) for a normalize run")
-        model = algo.load(ckpt.path(checkpoints.MODEL), params.get("policy"), env=_normalized(raw_env, params, stats, training=True), device=device)
+            raise checkpoints.CheckpointError(
+                f"{ckpt.directory}: no observation statistics (vecnormalize) for a normalize run"
+            )
+        model = algo.load(
+            ckpt.path(checkpoints.MODEL),
+            params.get("policy"),
+            env=_normalized(raw_env, params, stats, training=True),
+            device=device,
+        )
         if model.num_timesteps != ckpt.step:
-            raise checkpoints.CheckpointError(f"{ckpt.path(checkpoints.MODEL)}: at step {model.num_timesteps}, the manifest says {ckpt.step}")
+            raise checkpoints.CheckpointError(
+                f"{ckpt.path(checkpoints.MODEL)}: at step {model.num_timesteps}, the manifest says {ckpt.step}"
+            )
         if algo.off_policy:
             checkpoints.restore_replay_buffer(model, ckpt)
         return model
@@ -153,21 +197,38 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
             if status is not None:
                 log(f"{run_dir}: unfinished run without a checkpoint; starting again from step 0")
             env = _normalized(raw_env, params, None, training=True)
-            model = cls(env=env, seed=req.seed, device=device, tensorboard_log=str(run_dir / "tb"), verbose=0,
-                        **_model_kwargs(req.algo, params, env.action_space.shape[0]))
+            model = cls(
+                env=env,
+                seed=req.seed,
+                device=device,
+                tensorboard_log=str(run_dir / "tb"),
+                verbose=0,
+                **_model_kwargs(req.algo, params, env.action_space.shape[0]),
+            )
             if params.get("demonstrations"):
                 _demonstrate(model, req, n_envs, params, log)
         if params.get("bc_weight"):
-            _keep_cloning(model, req, params["bc_weight"], params.get("bc_q_filter", True),
-                          params.get("bc_sampled", False))
+            _keep_cloning(
+                model, req, params["bc_weight"], params.get("bc_q_filter", True), params.get("bc_sampled", False)
+            )
         if not candidates and params.get("offline_steps"):  # with the cloning loss, if any, in its actor updates
             _learn_offline(model, req, params["offline_steps"], log, progress)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
-        callbacks = make_callbacks(req.steps, run_dir, params, eval_env, algo.off_policy, progress, _reward_scales(req),
-                                   elapsed=lambda: elapsed_before + time.time() - started,
-                                   resumed_at=int(model.num_timesteps), n_envs=n_envs, stop=stop)
+        callbacks = make_callbacks(
+            req.steps,
+            run_dir,
+            params,
+            eval_env,
+            algo.off_policy,
+            progress,
+            _reward_scales(req),
+            elapsed=lambda: elapsed_before + time.time() - started,
+            resumed_at=int(model.num_timesteps),
+            n_envs=n_envs,
+            stop=stop,
+        )
         try:
             if remaining > 0:
                 model.learn(total_timesteps=remaining, callback=callbacks, reset_num_timesteps=False, tb_log_name="tb")
@@ -182,8 +243,10 @@ def _train_owned(req: TrainRequest, n_envs: int, run_dir: Path, config: dict[str
                 )
                 log(f"{run_dir}: interrupted at step {model.num_timesteps}; run the same command again to resume")
             else:
-                log(f"{run_dir}: stopped at once at step {model.num_timesteps}, without a checkpoint; run the same "
-                    f"command again to resume from step {read_status(run_dir)['num_timesteps']}")
+                log(
+                    f"{run_dir}: stopped at once at step {model.num_timesteps}, without a checkpoint; run the same "
+                    f"command again to resume from step {read_status(run_dir)['num_timesteps']}"
+                )
             raise
         rundir.write_final(run_dir, model, algo.off_policy)
         final = {
@@ -228,15 +291,19 @@ def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], 
         done = prefill(model, venv, req.env, req.action_mode, params["demonstrations"])
     finally:
         venv.close()
-    log(f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
-        f"{done['success']:.2f} success) in the replay buffer")
+    log(
+        f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
+        f"{done['success']:.2f} success) in the replay buffer"
+    )
     bc_steps = params.get("bc_steps", 0)
     if bc_steps or params.get("offline_steps"):
         seed_statistics(model)
     if bc_steps:
         cloned = done["behaviour_cloning"] = behaviour_clone(model, bc_steps)
-        log(f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
-            f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})")
+        log(
+            f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
+            f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})"
+        )
     if params.get("bc_weight"):
         done["cloning_loss_weight"] = params["bc_weight"]
         done["cloning_loss_q_filter"] = params.get("bc_q_filter", True)
@@ -254,8 +321,10 @@ def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) ->
     done = json.loads(path.read_text())
     learned = done["offline"] = learn_offline(model, steps, progress)
     first, last = learned["first"].get("train/critic_loss"), learned["last"].get("train/critic_loss")
-    log(f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
-        + (f" (critic loss {first:.3f} -> {last:.3f})" if first is not None and last is not None else ""))
+    log(
+        f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
+        + (f" (critic loss {first:.3f} -> {last:.3f})" if first is not None and last is not None else "")
+    )
     write_atomic(path, json.dumps(done, indent=2) + "\n")
 
 

@@ -47,8 +47,9 @@ def load_mapping(path: Path, what: str = "a mapping") -> dict[str, Any]:
         for event in yaml.parse(text, Loader=yaml.SafeLoader):
             tag = getattr(event, "tag", None)
             if tag is not None:
-                raise YamlFileError(f"{_where(path, event.start_mark)}: YAML tag {_short(tag)!r} is not allowed; "
-                                    "write plain literals")
+                raise YamlFileError(
+                    f"{_where(path, event.start_mark)}: YAML tag {_short(tag)!r} is not allowed; write plain literals"
+                )
         root = yaml.compose(text, Loader=yaml.SafeLoader)
         data = yaml.safe_load(text)
     except yaml.YAMLError as err:
@@ -57,14 +58,16 @@ def load_mapping(path: Path, what: str = "a mapping") -> dict[str, Any]:
         raise YamlFileError(f"{_where(path, mark)}: not valid YAML ({problem})") from None
     if not isinstance(data, dict):
         kind = "an empty file" if data is None else f"a {type(data).__name__}"
-        raise YamlFileError(f"{_where(path, root.start_mark if root is not None else None)}: expected {what}, got {kind}")
+        raise YamlFileError(
+            f"{_where(path, root.start_mark if root is not None else None)}: expected {what}, got {kind}"
+        )
     return data
 
 
 def _short(tag: str) -> str:
     """``tag:yaml.org,2002:python/name:os.system`` written as in the file: ``!!python/name:os.system``."""
     prefix = "tag:yaml.org,2002:"
-    return "!!" + tag[len(prefix):] if tag.startswith(prefix) else tag
+    return "!!" + tag[len(prefix) :] if tag.startswith(prefix) else tag
 
 
 def key_line(path: Path, key: str) -> int | None:

@@ -161,8 +161,9 @@ class JointTargetDelta(ControllerConfig):
         _positive("JointTargetDelta", "max_delta", self.max_delta)
 
     def describe(self) -> str:
-        return (f"target `previous target + a * {_rad(self.max_delta)}` (the measured `q` at reset), "
-                "clipped to the range")
+        return (
+            f"target `previous target + a * {_rad(self.max_delta)}` (the measured `q` at reset), clipped to the range"
+        )
 
 
 @dataclass(frozen=True)
@@ -208,8 +209,10 @@ class IntegratedJointVelocity(ControllerConfig):
         _positive("IntegratedJointVelocity", "max_lead", self.max_lead)
 
     def describe(self) -> str:
-        return (f"speed `a * {self.max_velocity:g} rad/s` integrated into a position target, "
-                f"kept within {_rad(self.max_lead)} of `q` (no working velocity controller)")
+        return (
+            f"speed `a * {self.max_velocity:g} rad/s` integrated into a position target, "
+            f"kept within {_rad(self.max_lead)} of `q` (no working velocity controller)"
+        )
 
 
 @dataclass(frozen=True)
@@ -247,8 +250,10 @@ class EEDelta(ControllerConfig):
     def _ik(self) -> str:
         text = f"mink IK (orientation cost {self.orientation_cost:g}"
         if self.yield_residual is not None:
-            text += (f"; re-solved with {self.yield_orientation_cost:g} where the residual exceeds "
-                     f"{_metres(self.yield_residual)}, so the gripper tilts to reach")
+            text += (
+                f"; re-solved with {self.yield_orientation_cost:g} where the residual exceeds "
+                f"{_metres(self.yield_residual)}, so the gripper tilts to reach"
+            )
         return text + ")"
 
     def describe(self) -> str:
@@ -265,8 +270,7 @@ class EETargetDelta(EEDelta):
     controller: ClassVar[str] = f"{_PACKAGE}.ee:EETargetDeltaController"
 
     def describe(self) -> str:
-        return (f"grip-site target `previous target + a[:3] * {_metres(self.step)}` (the site at reset), "
-                f"{self._ik()}")
+        return f"grip-site target `previous target + a[:3] * {_metres(self.step)}` (the site at reset), {self._ik()}"
 
 
 @dataclass(frozen=True)

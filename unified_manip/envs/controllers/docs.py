@@ -23,16 +23,23 @@ def modes_section(controllers: Mapping[str, ControllerConfig], width: int = 88) 
     lines = []
     for mode, config in controllers.items():
         lines += textwrap.wrap(
-            config.describe().replace("`", ""), width, initial_indent=f"    {mode:<{pad - 4}}",
+            config.describe().replace("`", ""),
+            width,
+            initial_indent=f"    {mode:<{pad - 4}}",
             subsequent_indent=" " * pad,
         )
     params = "; ".join(
         f"{mode}: " + ", ".join(f"{name}={value!r}" for name, value in config.parameters().items())
-        for mode, config in controllers.items() if config.parameters()
+        for mode, config in controllers.items()
+        if config.parameters()
     )
     if params:
-        lines += textwrap.wrap(f"gym.make(..., controller_options={{...}}) sets a mode's parameters ({params}).",
-                               width, initial_indent="    ", subsequent_indent="    ")
+        lines += textwrap.wrap(
+            f"gym.make(..., controller_options={{...}}) sets a mode's parameters ({params}).",
+            width,
+            initial_indent="    ",
+            subsequent_indent="    ",
+        )
     return "\n".join(lines)
 
 

@@ -25,8 +25,9 @@ class EEDeltaController:
         self.ik = MinkIK(rig.model, rig, orientation_cost=config.orientation_cost, iterations=config.iterations)
         self.ik_yield = None
         if config.yield_residual is not None:
-            self.ik_yield = MinkIK(rig.model, rig, orientation_cost=config.yield_orientation_cost,
-                                   iterations=config.iterations)
+            self.ik_yield = MinkIK(
+                rig.model, rig, orientation_cost=config.yield_orientation_cost, iterations=config.iterations
+            )
 
     def reset(self) -> None:
         self.rig.reset("position")

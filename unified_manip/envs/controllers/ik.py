@@ -43,17 +43,13 @@ class IKJoints:
         return len(self.joint_names)
 
     @classmethod
-    def from_model(
-        cls, model: mujoco.MjModel, joints, site: str, unlimited_range: tuple[float, float]
-    ) -> "IKJoints":
+    def from_model(cls, model: mujoco.MjModel, joints, site: str, unlimited_range: tuple[float, float]) -> "IKJoints":
         """Read addresses and ranges from ``model``; joints without limits get ``unlimited_range``."""
         jids = np.array([model.joint(j).id for j in joints])
         limited = model.jnt_limited[jids].astype(bool)
         lower = np.where(limited, model.jnt_range[jids, 0], unlimited_range[0])
         upper = np.where(limited, model.jnt_range[jids, 1], unlimited_range[1])
-        return cls(
-            tuple(joints), model.jnt_qposadr[jids].copy(), model.jnt_dofadr[jids].copy(), lower, upper, site
-        )
+        return cls(tuple(joints), model.jnt_qposadr[jids].copy(), model.jnt_dofadr[jids].copy(), lower, upper, site)
 
 
 class SitePoseTask(mink.Task):

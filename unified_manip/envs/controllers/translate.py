@@ -35,8 +35,9 @@ class EEDeltaInMode:
         control = getattr(backend, "control", None)
         self.site_mode = hasattr(control, "site_action_toward")
         if not (self.site_mode or hasattr(control, "action_toward")):
-            raise ValueError("only the modes of the shared controllers can play ee_delta actions "
-                             "(not a source's own controller)")
+            raise ValueError(
+                "only the modes of the shared controllers can play ee_delta actions (not a source's own controller)"
+            )
         self.rig, self.control, self.step = backend.rig, control, ee.step
         if not self.site_mode:
             self.ik = MinkIK(self.rig.model, self.rig, orientation_cost=ee.orientation_cost, iterations=ee.iterations)

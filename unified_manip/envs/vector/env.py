@@ -111,7 +111,9 @@ class NativeVectorEnv(VectorEnv):
         if options is not None and "reset_mask" in options:
             mask = options["reset_mask"]
             if not isinstance(mask, np.ndarray) or mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
-                raise ValueError(f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}")
+                raise ValueError(
+                    f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}"
+                )
         extra = {}
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
@@ -136,7 +138,9 @@ class NativeVectorEnv(VectorEnv):
         else:
             if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset.any():
                 i = int(np.flatnonzero(self._autoreset)[0])
-                raise ValueError(f"env {i} has ended its episode: reset it first (reset(options={{'reset_mask': ...}}))")
+                raise ValueError(
+                    f"env {i} has ended its episode: reset it first (reset(options={{'reset_mask': ...}}))"
+                )
             resetting = np.zeros(n, dtype=bool)
         stepping = ~resetting
         diagnostics = self._batched.step(a, np.flatnonzero(stepping)) if stepping.any() else {}
@@ -161,7 +165,9 @@ class NativeVectorEnv(VectorEnv):
             "action_sq": (a[:, None, :] @ a[:, :, None])[:, 0, 0],  # == a_i @ a_i, bit for bit
         }
         # Same dtype path as compute_reward (and the single env), so they agree bit for bit.
-        distance = self.task.goal_distance(obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64))
+        distance = self.task.goal_distance(
+            obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64)
+        )
         success = (distance < self._threshold).astype(np.float64)
         terms = self.reward_spec.terms_batch(distance, success, ctx)
         reward = np.zeros(n)
@@ -247,7 +253,9 @@ class NativeVectorEnv(VectorEnv):
     def _reset_info(self, obs, g2o, grasped, extra) -> dict[str, Any]:
         n = self.num_envs
         # As the single env's reset: success from the float32 goals.
-        success = (self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"]) < self._threshold).astype(np.float64)
+        success = (self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"]) < self._threshold).astype(
+            np.float64
+        )
         return {
             "is_success": success,
             "grip_to_object": g2o,
@@ -262,7 +270,9 @@ class NativeVectorEnv(VectorEnv):
         """Collect one env's scalar extra-info entries into ``(N,)`` arrays."""
         for key, value in values.items():
             if key not in out:
-                out[key] = np.zeros(self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object)
+                out[key] = np.zeros(
+                    self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object
+                )
             out[key][i] = value
         return out
 

@@ -60,7 +60,9 @@ def resolve_vec(vec: str, task_id: str, n_envs: int) -> str:
         raise ValueError(f"unknown vec {vec!r}; expected one of {', '.join(VEC_KINDS)}")
     reason = native_support(task_id)
     if vec == "native" and reason is not None:
-        raise ValueError(f"--vec native: {task_id} has no native vector env ({reason}); expected --vec auto, dummy or subproc")
+        raise ValueError(
+            f"--vec native: {task_id} has no native vector env ({reason}); expected --vec auto, dummy or subproc"
+        )
     if vec == "auto":
         return "native" if reason is None and n_envs > 1 else ("subproc" if n_envs > 1 else "dummy")
     return vec
@@ -98,7 +100,11 @@ def make_vector_env(
     spec = get_task(task_id)
     reason = native_support(task_id, env_kwargs.get("render_mode"))
     if reason is not None:
-        warnings.warn(f"{task_id}: no native vector env ({reason}); using gymnasium's SyncVectorEnv", VectorFallbackWarning, stacklevel=3)
+        warnings.warn(
+            f"{task_id}: no native vector env ({reason}); using gymnasium's SyncVectorEnv",
+            VectorFallbackWarning,
+            stacklevel=3,
+        )
         import gymnasium as gym
 
         def make_one():
@@ -109,8 +115,19 @@ def make_vector_env(
 
     options = dict(env_kwargs)
     config = EnvConfig(
-        **{k: options.pop(k) for k in ("action_mode", "reward_type", "terminate_on_success", "render_mode",
-                                       "render_width", "render_height", "controller_options") if k in options},
+        **{
+            k: options.pop(k)
+            for k in (
+                "action_mode",
+                "reward_type",
+                "terminate_on_success",
+                "render_mode",
+                "render_width",
+                "render_height",
+                "controller_options",
+            )
+            if k in options
+        },
         options=options,
     )
     config.require_supported(task_id, spec.action_modes)

@@ -56,4 +56,3 @@ def objects(rows: Mapping[int, Any], num_envs: int) -> np.ndarray:
     for i, value in rows.items():
         out[i] = value
     return out
-

@@ -63,7 +63,9 @@ class NativeSB3VecEnv(VecEnv):
         if not isinstance(venv, NativeVectorEnv):
             raise ValueError(f"NativeSB3VecEnv wraps a NativeVectorEnv, got {type(venv).__name__}")
         if venv.autoreset_mode != AutoresetMode.SAME_STEP:
-            raise ValueError(f"NativeSB3VecEnv needs autoreset_mode=SAME_STEP (SB3 resets on the last step), got {venv.autoreset_mode}")
+            raise ValueError(
+                f"NativeSB3VecEnv needs autoreset_mode=SAME_STEP (SB3 resets on the last step), got {venv.autoreset_mode}"
+            )
         self.venv = venv
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
         self._actions: np.ndarray | None = None
@@ -130,15 +132,23 @@ class NativeSB3VecEnv(VecEnv):
         return list(self._get_indices(indices))
 
 
-def make_monitored(task_id: str, env_kwargs: dict[str, Any], n_envs: int, seed: int, monitor_dir: Path | None,
-                   info_keywords: tuple[str, ...] = ("is_success",)):
+def make_monitored(
+    task_id: str,
+    env_kwargs: dict[str, Any],
+    n_envs: int,
+    seed: int,
+    monitor_dir: Path | None,
+    info_keywords: tuple[str, ...] = ("is_success",),
+):
     """What ``unified-manip train --vec native`` trains on: the adapter over ``n_envs``
     native envs (env ``k`` seeded ``seed + k`` at the first reset, as SB3's
     ``make_vec_env``), in a ``VecMonitor`` writing ``<monitor_dir>/native.monitor.csv``."""
     from stable_baselines3.common.vec_env import VecMonitor
 
     spec = gym.spec(task_id)
-    venv = NativeSB3VecEnv(make_vector_env(n_envs, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, **env_kwargs))
+    venv = NativeSB3VecEnv(
+        make_vector_env(n_envs, task_id, spec.max_episode_steps, AutoresetMode.SAME_STEP, **env_kwargs)
+    )
     venv.seed(seed)
     filename = None
     if monitor_dir is not None:

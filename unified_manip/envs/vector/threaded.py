@@ -60,7 +60,9 @@ class ThreadedBatch(BatchedBackend):
         for i in indices.tolist():
             for key, value in self._step_info[i].items():
                 if key not in out:  # float64 for floats, bool for bools: as Gymnasium does
-                    out[key] = np.zeros(self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object)
+                    out[key] = np.zeros(
+                        self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object
+                    )
                 out[key][i] = value
         return out
 
