@@ -143,12 +143,12 @@ CASES = {
     "bench grid name climbs out": (
         lambda t: ["bench", grid(t, name="../../etc")],
         "unified-manip bench: error: {t}/grid.yaml: name '../../etc' must be a plain directory name "
-        "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>",
+        "(no '/', '\\', '..' or absolute path): the bench writes to results/<name>",
     ),
     "bench grid name absolute": (
         lambda t: ["bench", grid(t, name="/tmp/x")],
         "unified-manip bench: error: {t}/grid.yaml: name '/tmp/x' must be a plain directory name "
-        "(no '/', '\\', '..' or absolute path): the bench writes to baselines/results/<name>",
+        "(no '/', '\\', '..' or absolute path): the bench writes to results/<name>",
     ),
     "report results missing": (
         lambda t: ["report", str(t / "results.csv")],

@@ -13,7 +13,7 @@ from unified_manip.experiments.figures import curve_band
 from unified_manip.experiments.results import read_results
 
 ROOT = Path(__file__).resolve().parents[1]
-BENCHES = [ROOT / "baselines" / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
+BENCHES = [ROOT / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
 
 
 def _tasks(paths) -> list[str]:

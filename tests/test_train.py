@@ -1,6 +1,6 @@
 """``unified-manip train`` / ``eval`` through the CLI, as a user runs them (subprocesses),
 plus the rl-baselines3-zoo smoke run. Budgets are tiny: these check the plumbing, the
-learning itself is checked by the committed experiments in ``baselines/results``."""
+learning itself is checked by the committed experiments in ``results``."""
 
 from __future__ import annotations
 

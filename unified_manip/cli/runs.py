@@ -74,7 +74,7 @@ def add_commands(sub) -> None:
 
     p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
     p.add_argument("grid", help="grid YAML file, e.g. baselines/grids/action_spaces.yaml")
-    p.add_argument("--out", help="bench directory (default: baselines/results/<grid name>)")
+    p.add_argument("--out", help="bench directory (default: results/<grid name>)")
     p.add_argument("--executor", choices=("local", "ray"), default="local")
     p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
     p.add_argument("--workers", type=positive_int, help="runs at a time (default: CPU cores)")
@@ -172,7 +172,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from unified_manip.experiments.grid import load_grid
 
     grid = load_grid(Path(args.grid))
-    out = Path(args.out) if args.out else Path("baselines") / "results" / grid.name
+    out = Path(args.out) if args.out else Path("results") / grid.name
     # Ctrl-C stops the bench cleanly even when it was started with SIGINT ignored.
     signal.signal(signal.SIGINT, signal.default_int_handler)
     try:

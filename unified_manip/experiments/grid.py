@@ -89,7 +89,7 @@ def load_grid(path: Path) -> Grid:
     if not _plain_name(name):
         raise GridError(
             f"{path}: name {name!r} must be a plain directory name (no '/', '\\', '..' or absolute path): "
-            "the bench writes to baselines/results/<name>"
+            "the bench writes to results/<name>"
         )
     tasks = _list(path, doc, "tasks", str)
     _check(path, get_task, tasks)  # the registry's and EnvConfig's own checks and words
