@@ -12,7 +12,7 @@ from conftest import make
 
 import unified_manip
 from unified_manip.envs.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
-from unified_manip.envs.controllers.docs import README_END, README_START, readme_table
+from unified_manip.tools.mode_table import README_END, README_START, readme_table
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -195,4 +195,4 @@ def test_mode_table_shows_every_tasks_config():
 def test_readme_mode_table_is_the_generated_one():
     text = (ROOT / "README.md").read_text()
     start, end = text.index(README_START), text.index(README_END) + len(README_END)
-    assert text[start:end] == readme_table(), "run: python -m unified_manip.envs.controllers.docs"
+    assert text[start:end] == readme_table(), "run: python -m unified_manip.tools.mode_table"

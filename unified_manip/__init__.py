@@ -22,8 +22,9 @@ from unified_manip.envs._quiet import silence_import_notices  # noqa: E402
 
 silence_import_notices()
 
-from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES, EnvConfig  # noqa: E402
+from unified_manip.envs.config import ACTION_MODES, EnvConfig  # noqa: E402
 from unified_manip.envs.registry import NAMESPACE, TASKS, TaskSpec, get_task, register_task  # noqa: E402
+from unified_manip.envs.rewards import REWARD_TYPES  # noqa: E402
 
 try:
     __version__ = version("unified_manip")

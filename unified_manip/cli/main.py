@@ -11,8 +11,8 @@ from rich.table import Table
 
 from unified_manip.cli.args import Parser, positive_int, task_ids
 from unified_manip.cli.runs import add_commands
-from unified_manip.envs.config import REWARD_TYPES
 from unified_manip.envs.registry import TASKS
+from unified_manip.envs.rewards import REWARD_TYPES
 
 
 def cmd_list(args: argparse.Namespace) -> int:

@@ -11,8 +11,9 @@ import sys
 from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
-from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES
+from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.registry import TASKS
+from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
+from unified_manip.envs.rewards import RewardConfig, RewardSpec, make_reward_spec, validate_reward_type
+
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
 #: A family declares which it supports, each with its controller config
 #: (:mod:`unified_manip.envs.controllers`).
@@ -24,9 +26,6 @@ ACTION_MODES: tuple[str, ...] = (
     "native",
 )
 
-#: Every reward design the interface knows.
-REWARD_TYPES: tuple[str, ...] = ("sparse", "dense", "dense_penalized")
-
 RENDER_MODES: tuple[str, ...] = ("rgb_array", "human")
 
 
@@ -38,12 +37,6 @@ def validate_action_mode(action_mode: str) -> None:
     """``ValueError`` naming the valid choices unless ``action_mode`` is one of :data:`ACTION_MODES`."""
     if action_mode not in ACTION_MODES:
         raise ValueError(f"unknown action_mode {action_mode!r}; expected one of {_choices(ACTION_MODES)}")
-
-
-def validate_reward_type(reward_type: str) -> None:
-    """``ValueError`` naming the valid choices unless ``reward_type`` is one of :data:`REWARD_TYPES`."""
-    if reward_type not in REWARD_TYPES:
-        raise ValueError(f"unknown reward_type {reward_type!r}; expected one of {_choices(REWARD_TYPES)}")
 
 
 @dataclass(frozen=True)
@@ -85,8 +78,6 @@ class EnvConfig:
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
         validate_reward_type(self.reward_type)
-        from unified_manip.envs.rewards import RewardConfig, RewardSpec  # rewards imports this module
-
         for name, cls in (("reward_config", RewardConfig), ("reward_spec", RewardSpec)):
             value = getattr(self, name)
             if value is not None and not isinstance(value, cls):
@@ -110,6 +101,13 @@ class EnvConfig:
             value = getattr(self, name)
             if not isinstance(value, int) or value <= 0:
                 raise ValueError(f"{name} must be a positive int, got {value!r}")
+
+    def reward_design(self, shaping: str) -> RewardSpec:
+        """The reward design an env with this config uses: :attr:`reward_spec` if given,
+        else :attr:`reward_type`'s for the task's ``shaping`` with :attr:`reward_config`."""
+        if self.reward_spec is not None:
+            return self.reward_spec
+        return make_reward_spec(self.reward_type, shaping, self.reward_config)
 
     def require_supported(self, task_id: str, supported: tuple[str, ...]) -> None:
         """Raise ``ValueError`` if the task does not support the chosen action mode."""

@@ -12,7 +12,7 @@ from gymnasium_robotics.core import GoalEnv
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.registry import get_task
-from unified_manip.envs.rewards import info_arrays, reward_spec_for
+from unified_manip.envs.rewards import info_arrays
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -79,7 +79,7 @@ class UnifiedManipEnv(GoalEnv):
         self.config.mode_config(self.task.controllers)  # a bad controller option fails before the simulator loads
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
-        self.reward_spec = reward_spec_for(self.config, self.task.shaping)
+        self.reward_spec = self.config.reward_design(self.task.shaping)
         self._threshold = self.task.distance_threshold
         self._backend = self.task.make_backend(self.config)
 

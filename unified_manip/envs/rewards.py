@@ -44,14 +44,20 @@ add up to the step reward; the raw, unscaled terms come from
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from unified_manip.envs.config import validate_reward_type
+#: Every reward design the interface knows.
+REWARD_TYPES: tuple[str, ...] = ("sparse", "dense", "dense_penalized")
 
-if TYPE_CHECKING:
-    from unified_manip.envs.config import EnvConfig
+
+def validate_reward_type(reward_type: str) -> None:
+    """``ValueError`` naming the valid choices unless ``reward_type`` is one of :data:`REWARD_TYPES`."""
+    if reward_type not in REWARD_TYPES:
+        choices = ", ".join(repr(v) for v in REWARD_TYPES)
+        raise ValueError(f"unknown reward_type {reward_type!r}; expected one of {choices}")
+
 
 #: Shaping templates: which terms the dense rewards use (``TaskSpec.shaping``).
 SHAPINGS: tuple[str, ...] = ("reach", "push", "grasp")
@@ -210,14 +216,6 @@ def make_reward_spec(reward_type: str, shaping: str, config: RewardConfig | None
         )
         penalties = (Term("action", _action, k.action), Term("drop", _drop, k.drop))
     return RewardSpec(reward_type, dense + penalties if reward_type == "dense_penalized" else dense)
-
-
-def reward_spec_for(config: EnvConfig, shaping: str) -> RewardSpec:
-    """The reward design an env with ``config`` uses: its ``reward_spec`` if given, else
-    ``reward_type``'s for ``shaping`` with its ``reward_config``."""
-    if config.reward_spec is not None:
-        return config.reward_spec
-    return make_reward_spec(config.reward_type, shaping, config.reward_config)
 
 
 def info_arrays(info: Any, batch_shape: tuple[int, ...]) -> dict[str, np.ndarray]:

@@ -8,8 +8,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from unified_manip.envs.config import EnvConfig, validate_reward_type
+from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.registry import TASKS, get_task
+from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 from unified_manip.training.yamlfile import YamlFileError, load_mapping

@@ -48,7 +48,7 @@ def evaluate(
     import gymnasium as gym
     from scipy.stats import binomtest
 
-    from unified_manip.envs.config import validate_reward_type
+    from unified_manip.envs.rewards import validate_reward_type
 
     if episodes <= 0:
         raise TrainError(f"--episodes must be positive, got {episodes}")

@@ -21,7 +21,7 @@ from gymnasium.vector.utils import batch_space
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.registry import get_task
-from unified_manip.envs.rewards import INFO_KEYS, info_arrays, reward_spec_for
+from unified_manip.envs.rewards import INFO_KEYS, info_arrays
 from unified_manip.envs.vector import infos as vinfo
 from unified_manip.envs.vector.batched import BatchedBackend
 
@@ -60,7 +60,7 @@ class NativeVectorEnv(VectorEnv):
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode, "render_fps": self.task.render_fps}
         self.render_mode = config.render_mode
-        self.reward_spec = reward_spec_for(config, self.task.shaping)
+        self.reward_spec = config.reward_design(self.task.shaping)
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched

@@ -1,0 +1,37 @@
+"""The package's architecture as a contract: layers import only downwards, and no two
+sibling modules import each other (import-linter, configured in pyproject.toml)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_layers_import_only_downwards_and_nothing_is_circular():
+    proc = subprocess.run(
+        [str(Path(sys.executable).parent / "lint-imports"), "--config", str(ROOT / "pyproject.toml")],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "Layers: cli > tools > experiments > training > envs KEPT" in proc.stdout
+    assert "No import cycles between sibling modules KEPT" in proc.stdout
+    assert "0 broken" in proc.stdout
+
+
+def test_the_env_library_loads_no_training_code():
+    code = (
+        "import sys, gymnasium as gym, unified_manip\n"
+        "env = gym.make('UnifiedManip/Arm4PickAndPlace-v0', action_mode='ee_delta')\n"
+        "env.reset(seed=0); env.step(env.action_space.sample())\n"
+        "print(sorted(m for m in sys.modules if m.startswith('unified_manip.')"
+        " and not m.startswith('unified_manip.envs')))"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
