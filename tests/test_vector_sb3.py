@@ -17,7 +17,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor, VecNormali
 
 import unified_manip
 from unified_manip.envs.vector import make_vector_env
-from unified_manip.envs.vector.sb3 import NativeSB3VecEnv
+from unified_manip.training.sb3_vec_env import NativeSB3VecEnv
 
 
 def native(task_id: str, n: int, **kwargs) -> NativeSB3VecEnv:

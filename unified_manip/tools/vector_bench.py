@@ -57,7 +57,7 @@ def _make(kind: str, task_id: str, mode: str, n: int, threads: int):
         from gymnasium.vector import AutoresetMode
 
         from unified_manip.envs.vector.factory import make_vector_env
-        from unified_manip.envs.vector.sb3 import NativeSB3VecEnv
+        from unified_manip.training.sb3_vec_env import NativeSB3VecEnv
 
         spec = gym.spec(task_id)
         env = NativeSB3VecEnv(

@@ -35,7 +35,7 @@ class TrainRequest:
         device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
             ``device`` key, and ``auto`` where that has none.
         vec: How the envs are stepped: ``native`` (the native vector env, through
-            :class:`~unified_manip.envs.vector.sb3.NativeSB3VecEnv`), ``dummy`` (SB3's
+            :class:`~unified_manip.training.sb3_vec_env.NativeSB3VecEnv`), ``dummy`` (SB3's
             ``DummyVecEnv``), ``subproc`` (``SubprocVecEnv``), or ``auto``: native where
             the ID has a native vector env and ``n_envs > 1``, else dummy for one env
             and subproc for more.

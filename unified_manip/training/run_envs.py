@@ -27,7 +27,7 @@ def make_vec_env(
 
     kind = resolve_vec(vec, env_id, n_envs)
     if kind == "native":
-        from unified_manip.envs.vector.sb3 import make_monitored
+        from unified_manip.training.sb3_vec_env import make_monitored
 
         return make_monitored(env_id, env_kwargs, n_envs, seed, monitor_dir, ("is_success", "sim_unstable"))
 

@@ -3,7 +3,7 @@
 ``gym.make_vec("UnifiedManip/<task>-v0", num_envs=N, action_mode=..., reward_type=...)``
 returns a :class:`~unified_manip.envs.vector.env.NativeVectorEnv` for families with a batched
 backend (the 4-DOF arm), and Gymnasium's ``SyncVectorEnv`` with a one-line notice for
-the others. :class:`~unified_manip.envs.vector.sb3.NativeSB3VecEnv` gives the native env
+the others. :class:`~unified_manip.training.sb3_vec_env.NativeSB3VecEnv` gives the native env
 Stable-Baselines3's ``VecEnv`` interface.
 
 =================  =============================================================
@@ -15,7 +15,6 @@ module             concept
 ``infos``          info dicts of arrays in Gymnasium's layout
 ``env``            ``NativeVectorEnv``: the Gymnasium vector env
 ``factory``        ``make_vector_env``: the ``vector_entry_point``, and the fallback
-``sb3``            the Stable-Baselines3 ``VecEnv`` adapter
 =================  =============================================================
 """
 
