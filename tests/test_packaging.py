@@ -11,6 +11,8 @@ import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
 import unified_manip
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -130,3 +132,60 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     assert proc.returncode == 0, proc.stderr[-3000:]
     status = json.loads((work / "run" / "status.json").read_text())
     assert status["state"] == "finished" and status["num_timesteps"] == 200
+
+
+@pytest.mark.slow
+def test_the_base_install_is_the_env_library_alone(tmp_path):
+    """``pip install unified_manip`` with no extras: every ID steps, torch, SB3 and Ray are
+    absent, and a command that needs an extra says which in one line."""
+    src, dist, venv, work = (tmp_path / d for d in ("src", "dist", "venv", "work"))
+    src.mkdir()
+    work.mkdir()
+    _copy_source(src)
+    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
+    subprocess.run(
+        [*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
+    (wheel,) = dist.glob("unified_manip-*.whl")
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=120)
+    python = str(venv / "bin" / "python")
+    proc = subprocess.run(
+        [python, "-m", "pip", "--disable-pip-version-check", "-q", "install", str(wheel)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert proc.returncode == 0, proc.stderr
+    code = (
+        "import importlib.util, gymnasium as gym, unified_manip\n"
+        "print([m for m in ('torch', 'stable_baselines3', 'ray', 'rliable', 'pandas', 'rl_zoo3')"
+        " if importlib.util.find_spec(m)])\n"
+        "for tid in unified_manip.TASKS:\n"
+        "    env = gym.make(tid)\n"
+        "    env.reset(seed=0)\n"
+        "    env.step(env.action_space.sample())\n"
+        "    env.close()\n"
+        "print(len(unified_manip.TASKS))"
+    )
+    assert _python(code, cwd=work, python=python).splitlines() == ["[]", str(len(unified_manip.TASKS))]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    train = subprocess.run(
+        [str(venv / "bin" / "unified-manip"), "train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac_her"],
+        capture_output=True,
+        text=True,
+        cwd=work,
+        env=env,
+        timeout=300,
+    )
+    assert train.returncode == 2
+    assert train.stderr == (
+        "unified-manip train: error: unified-manip train needs the train extra: "
+        'pip install "unified_manip[train]" (missing: torch, stable_baselines3, sb3_contrib, tensorboard)\n'
+    )
+    listed = subprocess.run(
+        [str(venv / "bin" / "unified-manip"), "list"], capture_output=True, text=True, cwd=work, env=env, timeout=300
+    )
+    assert listed.returncode == 0 and "UnifiedManip/Arm4Reach-v0" in listed.stdout

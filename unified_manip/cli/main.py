@@ -13,6 +13,7 @@ from unified_manip.cli.args import Parser, positive_int, task_ids
 from unified_manip.cli.runs import add_commands
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
+from unified_manip.extras import MissingExtra, require
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -161,7 +162,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: The extras each subcommand needs beyond the env library (see :mod:`unified_manip.extras`).
+COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
+    "train": ("train",),
+    "eval": ("train",),
+    "bench": ("train", "bench"),
+    "report": ("bench",),
+    "plot": ("bench",),
+}
+
+
 def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    extras = COMMAND_EXTRAS.get(args.command, ()) + (("ray",) if getattr(args, "executor", None) == "ray" else ())
+    try:
+        require(*extras, what=f"unified-manip {args.command}")
+    except MissingExtra as err:
+        parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
+
     from unified_manip.experiments.grid import GridError
     from unified_manip.experiments.results import ResultsError
     from unified_manip.training.hyperparams import HyperparameterError
@@ -169,8 +188,6 @@ def main(argv: list[str] | None = None) -> int:
     from unified_manip.training.runlock import DirectoryInUse
     from unified_manip.training.yamlfile import YamlFileError
 
-    parser = build_parser()
-    args = parser.parse_args(argv)
     try:
         return args.func(args)
     except (

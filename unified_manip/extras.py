@@ -1,0 +1,44 @@
+"""The optional dependency groups ("extras") and the one-line error for a missing one.
+
+``pip install unified_manip`` is the env library alone (MuJoCo, Gymnasium,
+gymnasium-robotics, robosuite, mink). Training, reports, Ray, the zoo and datasets each
+come with an extra, e.g. ``pip install "unified_manip[train]"``; ``[all]`` has them all.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+
+#: Each extra and the modules that tell whether it is installed.
+EXTRAS: dict[str, tuple[str, ...]] = {
+    "train": ("torch", "stable_baselines3", "sb3_contrib", "tensorboard"),
+    "bench": ("matplotlib", "pandas", "rliable", "scipy", "tensorboard"),
+    "ray": ("ray",),
+    "zoo": ("rl_zoo3",),
+}
+
+
+class MissingExtra(ImportError):
+    """What was asked for needs an extra that is not installed."""
+
+
+def missing_modules(extra: str) -> list[str]:
+    """The modules of ``extra`` that cannot be imported here (none: it is installed)."""
+    if extra not in EXTRAS:
+        raise ValueError(f"unknown extra {extra!r}; expected one of {', '.join(EXTRAS)}")
+    return [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+
+
+def require(*extras: str, what: str) -> None:
+    """Raise :class:`MissingExtra` naming the first missing extra and its install line.
+
+    Args:
+        *extras: The extras ``what`` needs, e.g. ``"train", "bench"``.
+        what: What needs them, as the message should name it (``"unified-manip train"``).
+    """
+    for extra in extras:
+        absent = missing_modules(extra)
+        if absent:
+            raise MissingExtra(
+                f'{what} needs the {extra} extra: pip install "unified_manip[{extra}]" (missing: {", ".join(absent)})'
+            )
