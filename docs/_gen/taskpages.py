@@ -157,16 +157,22 @@ def task_page(spec, has_frame: bool) -> str:
         lines += [f"![{short_id(spec.id)}: its scripted policy at work, seed 0](../{FRAMES}/{short_id(spec.id)}.png)"
                   "{ width=320 }", ""]
     lines += [
-        "| ID | family | dense shaping | goal size | episode steps | success threshold | scripted policy |",
-        "|---|---|---|---:|---:|---:|---|",
-        f"| `{spec.id}` | `{spec.family}` | `{spec.shaping}` | {spec.goal_dim} | {spec.max_episode_steps} "
-        f"| {spec.distance_threshold:g} | {'yes' if spec.scripted_policy else 'no'} |",
+        "| | |",
+        "|---|---|",
+        f"| ID | `{spec.id}` |",
+        f"| family | `{spec.family}` |",
+        f"| dense-reward shaping | `{spec.shaping}` ([reward designs](../concepts/rewards.md)) |",
+        f"| goal size | {spec.goal_dim} |",
+        f"| episode length | {spec.max_episode_steps} steps |",
+        f"| success threshold | goal distance < {spec.distance_threshold:g} |",
+        f"| scripted policy | {'yes' if spec.scripted_policy else 'no'} |",
         "",
         "```python",
         "import gymnasium as gym",
         "import unified_manip  # registers the UnifiedManip/* IDs",
         "",
-        f'env = gym.make("{spec.id}", action_mode="{example_mode}", reward_type="sparse")',
+        f'env = gym.make("{spec.id}",',
+        f'               action_mode="{example_mode}", reward_type="sparse")',
         "```",
         "",
         "## Description",
