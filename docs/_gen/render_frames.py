@@ -3,7 +3,8 @@
     MUJOCO_GL=egl python docs/_gen/render_frames.py [--all] [--size 320]
 
 Writes ``docs/images/tasks/<name>-v<N>.png`` for every task that has none (``--all``:
-for every task). The frame is taken a third of the way through an episode of the task's
+for every task), then ``docs/images/tasks.png``, the home page's picture: every task's
+frame at half size, four to a row. The frame is taken a third of the way through an episode of the task's
 scripted policy, seed 0 (at reset where the task has no scripted policy), so the page
 shows the robot at work. The PNGs are committed; the site build does not render.
 """
@@ -49,7 +50,20 @@ def main(argv: list[str] | None = None) -> int:
             continue
         iio.imwrite(path, frame(task_id, args.size))
         print(f"wrote {path}")
+    write_sheet(OUT.parent / "tasks.png")
     return 0
+
+
+def write_sheet(path: Path, columns: int = 4) -> None:
+    """Every task's frame at half size, ``columns`` to a row, in registration order."""
+    import imageio.v3 as iio
+    import numpy as np
+
+    frames = [iio.imread(OUT / f"{t.split('/', 1)[1]}.png")[::2, ::2, :3] for t in unified_manip.TASKS]
+    frames += [np.full_like(frames[0], 255)] * (-len(frames) % columns)
+    rows = [np.concatenate(frames[i:i + columns], axis=1) for i in range(0, len(frames), columns)]
+    iio.imwrite(path, np.concatenate(rows, axis=0))
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
