@@ -9,7 +9,7 @@ def _subcommands(parser: argparse.ArgumentParser) -> list[tuple[str, str, argpar
     """``(name, help, parser)`` of each subcommand, in the order they were added."""
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
-            helps = {a.dest: a.help or "" for a in action._choices_actions}
+            helps = {a.dest: (a.help or "").replace("%%", "%") for a in action._choices_actions}
             return [(name, helps.get(name, ""), sub) for name, sub in action.choices.items()]
     return []
 
@@ -54,7 +54,7 @@ def cli_reference(parser: argparse.ArgumentParser) -> str:
     lines += [f"| [`{name}`](#{name}) | {_cell(help_)} |" for name, help_, _ in subs]
     lines.append("")
     for name, help_, sub in subs:
-        usage = " ".join(sub.format_usage().split())
+        usage = sub.format_usage().strip()
         lines += [f"## {name}", "", help_[:1].upper() + help_[1:] + ".", "", "```text", usage, "```", ""]
         if sub.description:
             lines += [sub.description, ""]
