@@ -4,6 +4,8 @@ results each time the site is built (``mkdocs build --strict``).
 * ``on_config``: one nav entry per registered task, under "Tasks".
 * ``on_files``: the generated pages (``tasks/<ID>.md``, ``reference/cli.md``) and the
   committed report figures of ``results/<name>/report/*.png`` as site files.
+* ``on_page_content``: the docstrings' Sphinx roles (``:class:`~a.b.C```) shown as plain
+  code (``C``), as Sphinx would show them.
 * ``on_page_markdown``: a marker ``<!-- gen:KIND ARG... -->`` in a written page is
   replaced by what ``KIND`` generates (see :data:`MARKERS`).
 """
@@ -108,3 +110,10 @@ def on_page_markdown(markdown: str, page, config, files) -> str:
         return "\n".join(indent + line if line else line for line in text.splitlines())
 
     return _MARKER.sub(expand, markdown)
+
+
+_ROLE = re.compile(r":(?:class|data|meth|func|attr|mod|exc|obj):<code>(~?)([\w.]+)</code>")
+
+
+def on_page_content(html: str, page, config, files) -> str:
+    return _ROLE.sub(lambda m: f"<code>{m.group(2).rsplit('.', 1)[-1] if m.group(1) else m.group(2)}</code>", html)
