@@ -45,11 +45,16 @@ def cli_reference(parser: argparse.ArgumentParser) -> str:
     """Markdown: the program's usage, then one section per subcommand with its usage and
     a table of its arguments."""
     prog = parser.prog
-    lines = ["# Command line", "",
-             f"`{prog}` is installed with the package. This page is generated from its `argparse` parser "
-             "when the site is built, so it lists exactly what the installed command accepts; "
-             f"`{prog} COMMAND --help` prints the same.", "",
-             "| command | what it does |", "|---|---|"]
+    lines = [
+        "# Command line",
+        "",
+        f"`{prog}` is installed with the package. This page is generated from its `argparse` parser "
+        "when the site is built, so it lists exactly what the installed command accepts; "
+        f"`{prog} COMMAND --help` prints the same.",
+        "",
+        "| command | what it does |",
+        "|---|---|",
+    ]
     subs = _subcommands(parser)
     lines += [f"| [`{name}`](#{name}) | {_cell(help_)} |" for name, help_, _ in subs]
     lines.append("")

@@ -97,8 +97,16 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
 
 
 #: The markers a written page may hold.
-MARKERS = ("mode-table", "reward-table", "task-table", "versions", "results NAME...", "targets NAME",
-           "figures NAME", "command NAME")
+MARKERS = (
+    "mode-table",
+    "reward-table",
+    "task-table",
+    "versions",
+    "results NAME...",
+    "targets NAME",
+    "figures NAME",
+    "command NAME",
+)
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:

@@ -61,7 +61,7 @@ def write_sheet(path: Path, columns: int = 4) -> None:
 
     frames = [iio.imread(OUT / f"{t.split('/', 1)[1]}.png")[::2, ::2, :3] for t in unified_manip.TASKS]
     frames += [np.full_like(frames[0], 255)] * (-len(frames) % columns)
-    rows = [np.concatenate(frames[i:i + columns], axis=1) for i in range(0, len(frames), columns)]
+    rows = [np.concatenate(frames[i : i + columns], axis=1) for i in range(0, len(frames), columns)]
     iio.imwrite(path, np.concatenate(rows, axis=0))
     print(f"wrote {path}")
 

@@ -32,9 +32,11 @@ def _demos(row) -> str:
     if d.get("offline"):
         extra.append(f"{d['offline']['steps']:,} offline steps")
     if d.get("cloning_loss_weight"):
-        extra.append(f"cloning loss {d['cloning_loss_weight']:g}"
-                     + ("" if d.get("cloning_loss_q_filter", True) else ", unfiltered")
-                     + (", sampled" if d.get("cloning_loss_sampled") else ""))
+        extra.append(
+            f"cloning loss {d['cloning_loss_weight']:g}"
+            + ("" if d.get("cloning_loss_q_filter", True) else ", unfiltered")
+            + (", sampled" if d.get("cloning_loss_sampled") else "")
+        )
     return f"{d['episodes']}" + (f" ({'; '.join(extra)})" if extra else "")
 
 
@@ -46,9 +48,11 @@ def final_table(paths: list[Path]) -> str:
     for path in paths:
         for r in read_results(path):
             groups[(r["task"], r["action_mode"], r["reward_type"], r["algo"], _demos(r), r["steps"])].append(r)
-    rows = ["| task | mode | reward | algo | demonstrations | budget | seeds | final success [95% CI] | per seed "
-            "| wall time per run | steps/s |",
-            "|---|---|---|---|---|---:|---:|---|---|---:|---:|"]
+    rows = [
+        "| task | mode | reward | algo | demonstrations | budget | seeds | final success [95% CI] | per seed "
+        "| wall time per run | steps/s |",
+        "|---|---|---|---|---|---:|---:|---|---|---:|---:|",
+    ]
     for (task, mode, reward, algo, demos, steps), runs in sorted(groups.items()):
         runs.sort(key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
@@ -57,10 +61,18 @@ def final_table(paths: list[Path]) -> str:
         seeds = ", ".join(f"{f:.2f} (s{r['seed']})" for f, r in zip(finals, runs))
         wall = float(np.median([r["wall_time_s"] for r in runs])) / 3600
         rate = float(np.median([r["steps_per_s"] for r in runs]))
-        rows.append(f"| {task.split('/')[-1]} | `{mode}` | {reward} | {algo} | {demos} | {steps:,} | {len(runs)} "
-                    f"| {np.mean(finals):.2f}{interval} | {seeds} | {wall:.2f} h | {rate:.0f} |")
-    return "\n".join(rows + ["", "Final success: the last evaluation of each run; the interval is the 95% "
-                             "percentile bootstrap over seeds. Wall time and steps/s: medians over seeds."])
+        rows.append(
+            f"| {task.split('/')[-1]} | `{mode}` | {reward} | {algo} | {demos} | {steps:,} | {len(runs)} "
+            f"| {np.mean(finals):.2f}{interval} | {seeds} | {wall:.2f} h | {rate:.0f} |"
+        )
+    return "\n".join(
+        rows
+        + [
+            "",
+            "Final success: the last evaluation of each run; the interval is the 95% "
+            "percentile bootstrap over seeds. Wall time and steps/s: medians over seeds.",
+        ]
+    )
 
 
 def targets_table(path: Path) -> str:

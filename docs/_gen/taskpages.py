@@ -65,15 +65,17 @@ def _modes_intro(lines: list[str]) -> str:
         header.append(line.strip())
     text = " ".join(header).rstrip(":")
     if text.startswith("Action modes (") and text.endswith(")"):
-        text = text[len("Action modes ("):-1]
+        text = text[len("Action modes (") : -1]
     return text[:1].upper() + text[1:] + "."
 
 
 def modes_table(controllers) -> str:
     """Markdown: one row per action mode with its config's description and the
     parameters ``controller_options`` may set, with their values for this task."""
-    rows = ["| mode | the action (`a` in [-1, 1] per joint or axis) | `controller_options` (defaults here) |",
-            "|---|---|---|"]
+    rows = [
+        "| mode | the action (`a` in [-1, 1] per joint or axis) | `controller_options` (defaults here) |",
+        "|---|---|---|",
+    ]
     for mode, config in controllers.items():
         params = ", ".join(f"`{name}={value!r}`" for name, value in config.parameters().items()) or "–"
         rows.append(f"| `{mode}` | {config.describe()} | {params} |")
@@ -135,7 +137,7 @@ def version_history(doc: str) -> str:
         if not line.strip():
             break
         text.append(line.strip())
-    return " ".join(text)[len("Version history:"):].strip()
+    return " ".join(text)[len("Version history:") :].strip()
 
 
 def _without_history(lines: list[str]) -> list[str]:
@@ -154,8 +156,11 @@ def task_page(spec, has_frame: bool) -> str:
     example_mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
     lines = [f"# {short_id(spec.id)}", "", summary, ""]
     if has_frame:
-        lines += [f"![{short_id(spec.id)}: its scripted policy at work, seed 0](../{FRAMES}/{short_id(spec.id)}.png)"
-                  "{ width=320 }", ""]
+        lines += [
+            f"![{short_id(spec.id)}: its scripted policy at work, seed 0](../{FRAMES}/{short_id(spec.id)}.png)"
+            "{ width=320 }",
+            "",
+        ]
     lines += [
         "| | |",
         "|---|---|",
@@ -187,9 +192,14 @@ def task_page(spec, has_frame: bool) -> str:
         after = _markdown(rest[stop:])
         if after:
             lines += ["## Details", "", *after]
-    lines += ["## Version history", "", version_history(spec.doc), "",
-              "Generated from the task's `TaskSpec` (`unified-manip list --doc "
-              f"{spec.id}` prints the same text).", ""]
+    lines += [
+        "## Version history",
+        "",
+        version_history(spec.doc),
+        "",
+        f"Generated from the task's `TaskSpec` (`unified-manip list --doc {spec.id}` prints the same text).",
+        "",
+    ]
     return "\n".join(lines)
 
 
@@ -221,14 +231,15 @@ def _term_formula(fn) -> str:
         x = "d_goal" if fn.of == "distance" else fn.of
         shaped = f"1 - tanh({fn.gain:g} · {x})"
         return f"{fn.gate} · ({shaped})" if fn.gate else shaped
-    return {"_sparse": "success - 1", "_success": "success", "_action": "-Σa² (`action_sq`)",
-            "_drop": "-dropped"}.get(getattr(fn, "__name__", ""), repr(fn))
+    return {"_sparse": "success - 1", "_success": "success", "_action": "-Σa² (`action_sq`)", "_drop": "-dropped"}.get(
+        getattr(fn, "__name__", ""), repr(fn)
+    )
 
 
 def reward_table(make_reward_spec, reward_types, shapings) -> str:
     """Markdown: the terms of every reward design for every shaping template, with the
     default ``RewardConfig``'s scales, built by the env's own ``make_reward_spec``."""
-    rows = ["| `reward_type` | shaping | terms (`info[\"reward_terms\"]` key: scale × term) |", "|---|---|---|"]
+    rows = ['| `reward_type` | shaping | terms (`info["reward_terms"]` key: scale × term) |', "|---|---|---|"]
     for reward_type in reward_types:
         for shaping in shapings:
             spec = make_reward_spec(reward_type, shaping)
