@@ -57,14 +57,13 @@ def on_files(files: Files, config) -> Files:
 
 
 def _mode_table() -> str:
-    from unified_manip.envs.controllers.docs import README_END, README_START, readme_table
+    from unified_manip.tools.mode_table import README_END, README_START, readme_table
 
     return readme_table().replace(README_START, "").replace(README_END, "").strip()
 
 
 def _reward_table() -> str:
-    from unified_manip.envs.config import REWARD_TYPES
-    from unified_manip.envs.rewards import SHAPINGS, make_reward_spec
+    from unified_manip.envs.rewards import REWARD_TYPES, SHAPINGS, make_reward_spec
 
     return taskpages.reward_table(make_reward_spec, REWARD_TYPES, SHAPINGS)
 
