@@ -12,7 +12,7 @@ from conftest import make
 
 import unified_manip
 from unified_manip.envs.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
-from unified_manip.tools.mode_table import README_END, README_START, readme_table
+from unified_manip.tools.mode_table import readme_table
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -190,9 +190,3 @@ def test_mode_table_shows_every_tasks_config():
                 for row in rows
             ), (spec.id, mode)
     assert any("arm4 (Arm4Push-v1)" in row and "0.1 rad" in row for row in rows)
-
-
-def test_readme_mode_table_is_the_generated_one():
-    text = (ROOT / "README.md").read_text()
-    start, end = text.index(README_START), text.index(README_END) + len(README_END)
-    assert text[start:end] == readme_table(), "run: python -m unified_manip.tools.mode_table"

@@ -1,0 +1,105 @@
+"""Result tables, figures and commands, generated from the committed results.
+
+Each committed experiment is a folder ``results/<name>/`` holding the bench's
+``results.csv``, its ``grid.yaml`` (with the targets), ``command.txt`` (the commands
+that trained it) and ``report/`` (the report and its PNG figures). The tables here are
+computed from ``results.csv`` by the same functions ``unified-manip report`` uses, so a
+page and the committed report agree to the digit.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+from unified_manip.experiments.results import read_results
+from unified_manip.experiments.stats import bootstrap_ci
+from unified_manip.experiments.targets import benchmark_table, grid_targets
+
+#: Where figures of ``results/<name>/report/`` are served, inside the site.
+ASSETS = "assets/results"
+
+
+def _demos(row) -> str:
+    d = row.get("demonstrations")
+    if not d:
+        return "–"
+    extra = []
+    if d.get("behaviour_cloning"):
+        extra.append(f"cloned {d['behaviour_cloning']['steps']:,} steps")
+    if d.get("offline"):
+        extra.append(f"{d['offline']['steps']:,} offline steps")
+    if d.get("cloning_loss_weight"):
+        extra.append(
+            f"cloning loss {d['cloning_loss_weight']:g}"
+            + ("" if d.get("cloning_loss_q_filter", True) else ", unfiltered")
+            + (", sampled" if d.get("cloning_loss_sampled") else "")
+        )
+    return f"{d['episodes']}" + (f" ({'; '.join(extra)})" if extra else "")
+
+
+def final_table(paths: list[Path]) -> str:
+    """Markdown: one row per setting (task, mode, reward, algorithm, demonstrations) of
+    the given ``results.csv`` files, with the mean final success over seeds, its 95%
+    bootstrap interval (:func:`bootstrap_ci`, as in the report) and each seed's value."""
+    groups = defaultdict(list)
+    for path in paths:
+        for r in read_results(path):
+            groups[(r["task"], r["action_mode"], r["reward_type"], r["algo"], _demos(r), r["steps"])].append(r)
+    rows = [
+        "| task | mode | reward | algo | demonstrations | budget | seeds | final success [95% CI] | per seed "
+        "| wall time per run | steps/s |",
+        "|---|---|---|---|---|---:|---:|---|---|---:|---:|",
+    ]
+    for (task, mode, reward, algo, demos, steps), runs in sorted(groups.items()):
+        runs.sort(key=lambda r: r["seed"])
+        finals = [r["final_success_rate"] for r in runs]
+        lo, hi = bootstrap_ci(finals)
+        interval = f" [{lo:.2f}, {hi:.2f}]" if lo == lo else ""
+        seeds = ", ".join(f"{f:.2f} (s{r['seed']})" for f, r in zip(finals, runs))
+        wall = float(np.median([r["wall_time_s"] for r in runs])) / 3600
+        rate = float(np.median([r["steps_per_s"] for r in runs]))
+        rows.append(
+            f"| {task.split('/')[-1]} | `{mode}` | {reward} | {algo} | {demos} | {steps:,} | {len(runs)} "
+            f"| {np.mean(finals):.2f}{interval} | {seeds} | {wall:.2f} h | {rate:.0f} |"
+        )
+    return "\n".join(
+        rows
+        + [
+            "",
+            "Final success: the last evaluation of each run; the interval is the 95% "
+            "percentile bootstrap over seeds. Wall time and steps/s: medians over seeds.",
+        ]
+    )
+
+
+def targets_table(path: Path) -> str:
+    """The report's benchmark table (targets, steps and wall time to them) for one
+    committed experiment, by the report's own function."""
+    targets = grid_targets(path / "grid.yaml")
+    return "\n".join(benchmark_table(read_results(path / "results.csv"), targets, bootstrap_ci)).strip()
+
+
+def figures(path: Path, name: str, depth: int) -> str:
+    """Markdown embedding the report's figures: success against steps for each task, and
+    the training episodes' success and return in a collapsed block."""
+    report = path / "report"
+    up = "../" * depth
+    success = sorted(report.glob("*_success.png"))
+    training = sorted(report.glob("*_training.png"))
+    final = sorted(report.glob("*_final.png"))
+    out = []
+    for png in success + final:
+        out += [f"![{png.stem}]({up}{ASSETS}/{name}/{png.name})", ""]
+    if training:
+        out += ['??? note "Training episodes: success and return against steps"', ""]
+        out += [f"    ![{png.stem}]({up}{ASSETS}/{name}/{png.name})\n" for png in training]
+    return "\n".join(out)
+
+
+def command(path: Path) -> str:
+    """The experiment's ``command.txt`` as a code block."""
+    text = (path / "command.txt").read_text().strip()
+    return f"```bash\n{text}\n```"

@@ -1,0 +1,96 @@
+"""The documentation: the site builds with ``mkdocs build --strict``, its generated pages
+hold what they are generated from, and the README stays a landing page."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import unified_manip
+
+ROOT = Path(__file__).resolve().parents[1]
+README_LIMIT = 12 * 1024
+
+
+def test_readme_is_a_landing_page_of_at_most_12_kb():
+    size = (ROOT / "README.md").stat().st_size
+    assert size <= README_LIMIT, f"README.md is {size} bytes; move detail into docs/"
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("site")
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=900,
+        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
+    )
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
+    return out
+
+
+def test_every_registered_task_has_a_page_with_its_frame_and_modes(site):
+    for task_id, spec in unified_manip.TASKS.items():
+        name = task_id.split("/", 1)[1]
+        page = (site / "tasks" / name / "index.html").read_text()
+        assert f"images/tasks/{name}.png" in page, name
+        assert (site / "images" / "tasks" / f"{name}.png").is_file(), name
+        for mode in spec.action_modes:
+            assert f"<code>{mode}</code>" in page, (name, mode)
+
+
+def test_the_command_reference_lists_every_subcommand(site):
+    from unified_manip.cli.main import build_parser
+
+    page = (site / "reference" / "cli" / "index.html").read_text()
+    subparsers = next(a for a in build_parser()._actions if a.choices and isinstance(a.choices, dict))
+    for name in subparsers.choices:
+        assert f'id="{name}"' in page, name
+
+
+def test_the_api_reference_is_rendered_from_the_docstrings(site):
+    page = (site / "reference" / "api" / "envs" / "index.html").read_text()
+    assert "EnvConfig" in page and "UnifiedManipEnv" in page and "doc-heading" in page
+
+
+def _report_rows(report: Path) -> dict[tuple[str, str, str, str], str]:
+    """``(task, algo, mode, reward) -> "mean [lo, hi]"`` from a committed report's
+    "Final success rate" table."""
+    text = report.read_text().split("## Final success rate", 1)[1].split("\n## ", 1)[0]
+    rows = {}
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if len(cells) >= 7 and re.fullmatch(r"\d\.\d\d", cells[5]):
+            interval = f" {cells[6]}" if cells[6].startswith("[") and "—" not in cells[6] else ""
+            rows[(cells[0], cells[1], cells[2], cells[3])] = cells[5] + interval
+    return rows
+
+
+def test_generated_result_tables_equal_the_committed_reports():
+    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
+    import resultpages
+
+    checked = 0
+    for results in sorted((ROOT / "results").glob("*/results.csv")):
+        report = results.parent / "report" / "report.md"
+        if not report.is_file():
+            continue
+        expected = _report_rows(report)
+        table = resultpages.final_table([results])
+        got = {}
+        for line in table.splitlines()[2:]:
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            if len(cells) == 11:
+                got.setdefault((cells[0], cells[3], cells[1].strip("`"), cells[2]), []).append(cells[7])
+        for key, value in expected.items():
+            assert value in got.get(key, []), (results.parent.name, key, value, got.get(key))
+            checked += 1
+    assert checked >= 40
