@@ -61,3 +61,21 @@ def test_scene_options_are_validated():
     with pytest.raises(ValueError) as err:
         SceneOptions(camera="front", free_camera={"distance": 1.0})
     assert str(err.value) == "give camera (a named camera) or free_camera (the free camera's config), not both"
+
+
+@pytest.mark.parametrize(
+    "task_id",
+    ["UnifiedManip/Arm4Reach-v0", "UnifiedManip/Lift-v0", "UnifiedManip/FetchReach-v0", "UnifiedManip/HandReach-v0"],
+)
+def test_an_env_that_rendered_and_was_never_closed_exits_quietly(task_id):
+    import subprocess
+    import sys
+
+    code = (
+        "import gymnasium as gym, unified_manip\n"
+        f"env = gym.make({task_id!r}, render_mode='rgb_array', render_width=64, render_height=64)\n"
+        "env.reset(seed=0)\n"
+        "print(env.render().shape)"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert (proc.returncode, proc.stdout, proc.stderr) == (0, "(64, 64, 3)\n", "")

@@ -9,6 +9,8 @@ drawn. That is a :class:`SceneOptions`.
 
 from __future__ import annotations
 
+import atexit
+import weakref
 from dataclasses import dataclass
 from typing import Any, Mapping
 
@@ -44,6 +46,26 @@ class SceneOptions:
             raise ValueError("give camera (a named camera) or free_camera (the free camera's config), not both")
 
 
+#: Renderers holding a GL context. An env that rendered and was never closed would free
+#: its context during interpreter teardown, after MuJoCo's own exit handler has
+#: terminated the EGL display (two ``Exception ignored ... EGLError`` tracebacks); they
+#: are closed at exit instead, by a handler registered after MuJoCo's, so run before it.
+_OPEN: weakref.WeakSet[Renderer] = weakref.WeakSet()
+_AT_EXIT: list[bool] = []
+
+
+def _close_open_renderers() -> None:
+    for renderer in list(_OPEN):
+        renderer.close()
+
+
+def _track(renderer: Renderer) -> None:
+    if not _AT_EXIT:
+        atexit.register(_close_open_renderers)  # exit handlers run last-registered first
+        _AT_EXIT.append(True)
+    _OPEN.add(renderer)
+
+
 class Renderer:
     """Renders ``(model, data)`` with gymnasium's ``MujocoRenderer``, built on first use.
 
@@ -63,6 +85,7 @@ class Renderer:
         after drawing in the window (``human``)."""
         if self._renderer is None:
             self._renderer, self._viewer = self._build(model, data)
+            _track(self)
         # Another renderer in this process (another env, a camera observation) may have
         # made its own GL context current since the last frame.
         self._viewer.make_context_current()
@@ -88,6 +111,7 @@ class Renderer:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = self._viewer = None
+        _OPEN.discard(self)
 
     def __getstate__(self) -> dict[str, Any]:
         return {**self.__dict__, "_renderer": None, "_viewer": None}
