@@ -115,7 +115,7 @@ class Backend(abc.ABC):
             physics()
             timer.seconds += clock() - start
 
-        self.physics_step = timed_physics  # instance attribute shadows the method
+        self.physics_step = timed_physics  # type: ignore[method-assign]  # instance attribute shadows the method
         try:
             yield timer
         finally:

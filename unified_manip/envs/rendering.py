@@ -78,7 +78,8 @@ class Renderer:
 
     def __init__(self, mode: str | None, width: int, height: int, scene: SceneOptions = SceneOptions()) -> None:
         self.mode, self.width, self.height, self.scene = mode, width, height, scene
-        self._renderer = self._viewer = None
+        self._renderer: Any = None
+        self._viewer: Any = None
 
     def render(self, model, data) -> np.ndarray | None:
         """An RGB frame of shape ``(height, width, 3)`` (``rgb_array``), or ``None``

@@ -205,6 +205,8 @@ def make_reward_spec(reward_type: str, shaping: str, config: RewardConfig | None
     k, g = config.scales, config.distance_gain
     if reward_type == "sparse":
         return RewardSpec("sparse", (Term("sparse", _sparse, k.sparse),))
+    dense: tuple[Term, ...]
+    penalties: tuple[Term, ...]
     if shaping == "reach":
         dense = (Term("reach", Shaped(g), k.reach), Term("success", _success, k.success))
         penalties = (Term("action", _action, k.action),)

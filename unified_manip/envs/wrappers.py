@@ -19,6 +19,7 @@ class RawRewardTerms(gym.Wrapper):
 
     def step(self, action: Any):
         obs, reward, terminated, truncated, info = self.env.step(action)
-        raw = self.env.unwrapped.compute_reward_terms(obs["achieved_goal"], obs["desired_goal"], info, raw=True)
+        env: Any = self.env.unwrapped
+        raw = env.compute_reward_terms(obs["achieved_goal"], obs["desired_goal"], info, raw=True)
         info["reward_terms_raw"] = {name: float(value) for name, value in raw.items()}
         return obs, reward, terminated, truncated, info

@@ -139,7 +139,7 @@ class JointDelta(ControllerConfig):
             _positive("JointDelta", "max_delta", self.max_delta)
 
     def describe(self) -> str:
-        step = "half the joint's command range" if self.max_delta == "half_range" else _rad(self.max_delta)
+        step = "half the joint's command range" if isinstance(self.max_delta, str) else _rad(self.max_delta)
         clip = ", clipped to the range" if self.clip else ", not clipped"
         return f"target `q + a * {step}`, relative to the measured `q`{clip}"
 

@@ -76,7 +76,7 @@ class SitePoseTask(mink.Task):
         self._site_id: int | None = None
         self.position = np.zeros(3)
         self.rotation = np.eye(3)
-        self._jac = None
+        self._jac: np.ndarray | None = None
 
     def set_target(self, position: np.ndarray, rotation: np.ndarray) -> None:
         self.position = np.asarray(position, dtype=float)
@@ -97,8 +97,9 @@ class SitePoseTask(mink.Task):
             self._site_id = configuration.model.site(self.site).id
         if self._jac is None:
             self._jac = np.zeros((6, configuration.model.nv))
-        mujoco.mj_jacSite(configuration.model, configuration.data, self._jac[:3], self._jac[3:], self._site_id)
-        return self._jac
+        jac = self._jac
+        mujoco.mj_jacSite(configuration.model, configuration.data, jac[:3], jac[3:], self._site_id)
+        return jac
 
 
 class MinkIK:

@@ -113,6 +113,7 @@ class MujocoRig:
             m.actuator_ctrlrange[ids, 0] = -self.max_torque
             m.actuator_ctrlrange[ids, 1] = self.max_torque
         elif kind == "velocity":
+            assert kv is not None and max_velocity is not None, "velocity actuation needs kv and max_velocity"
             # force = (kv + d) v_cmd - kv qdot: the feed-forward d v_cmd cancels the
             # joint's passive damping d, so the joint settles at exactly v_cmd.
             m.actuator_gainprm[ids, 0] = kv + m.dof_damping[self.dof_adr]

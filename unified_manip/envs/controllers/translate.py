@@ -13,6 +13,8 @@ success can differ by mode (demonstrations record it).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from unified_manip.envs.controllers.configs import EEDelta
@@ -31,8 +33,8 @@ class EEDeltaInMode:
             of Fetch and robosuite, the source's own controller).
     """
 
-    def __init__(self, backend, ee: EEDelta) -> None:
-        control = getattr(backend, "control", None)
+    def __init__(self, backend: Any, ee: EEDelta) -> None:
+        control: Any = getattr(backend, "control", None)
         self.site_mode = hasattr(control, "site_action_toward")
         if not (self.site_mode or hasattr(control, "action_toward")):
             raise ValueError(

@@ -28,7 +28,6 @@ from typing import Any, Sequence
 import mujoco
 import numpy as np
 
-from unified_manip.envs.backend import Backend
 from unified_manip.envs.controllers.joint import (
     JointDeltaController,
     JointPositionController,
@@ -72,8 +71,8 @@ class VectorizedArm4(BatchedBackend):
         num_threads: Threads of the physics pool.
     """
 
-    def __init__(self, backends: Sequence[Backend], action_mode: str, num_threads: int) -> None:
-        self._backends = list(backends)
+    def __init__(self, backends: Sequence[Any], action_mode: str, num_threads: int) -> None:
+        self._backends: list[Any] = list(backends)  # Arm4Backend: model, data, rig, control
         self.num_envs = n = len(self._backends)
         b0 = self._backends[0]
         self.kind = b0.scene
@@ -87,7 +86,7 @@ class VectorizedArm4(BatchedBackend):
         self._qpos_adr = rig.qpos_adr
         self._lower, self._upper = rig.lower, rig.upper
         self._grip_closed, self._grip_span = rig.gripper_closed, rig.gripper_span
-        if not self._per_env:
+        if scaling is not None:
             self._scale, self._offset = scaling
         m = b0.model
         self._nq = m.nq

@@ -104,7 +104,7 @@ class NativeVectorEnv(VectorEnv):
         elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
             seeds = [int(seed) + i for i in range(n)]
         else:
-            seeds = list(seed)
+            seeds = list(seed)  # type: ignore[arg-type]  # a sequence here (bools are ints)
             if len(seeds) != n:
                 raise ValueError(f"seed must be None, an int or a list of num_envs={n} seeds, got {len(seeds)} seeds")
         mask = np.ones(n, dtype=bool)
@@ -114,7 +114,7 @@ class NativeVectorEnv(VectorEnv):
                 raise ValueError(
                     f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}"
                 )
-        extra = {}
+        extra: dict[str, Any] = {}
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
                 self._rngs[i], _ = seeding.np_random(seeds[i])
@@ -208,7 +208,7 @@ class NativeVectorEnv(VectorEnv):
         self._autoreset = done
         return self._copy(obs), reward, terminated, truncated, info
 
-    def render(self) -> tuple[np.ndarray | None, ...] | None:
+    def render(self) -> tuple[np.ndarray | None, ...] | None:  # type: ignore[override]  # None per env in human mode
         if self.render_mode is None:
             return None
         return tuple(self._batched.render(i) for i in range(self.num_envs))

@@ -33,6 +33,7 @@ def merge(out: dict[str, Any], values: Mapping[str, Any], mask: np.ndarray) -> d
         return out
     shared = mask.copy()  # one mask array for the keys this call adds
     for key, value in values.items():
+        array: Any
         if type(value) is dict:
             array = merge(out.get(key, {}), value, mask)
         else:

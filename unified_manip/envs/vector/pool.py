@@ -54,8 +54,9 @@ class PhysicsPool:
         """
         if self.closed:
             raise RuntimeError("the physics thread pool is shut down (the vector env was closed)")
-        helpers = 0 if self._executor is None else min(self.num_threads - 1, len(indices) - 1)
-        if helpers <= 0:
+        executor = self._executor
+        helpers = 0 if executor is None else min(self.num_threads - 1, len(indices) - 1)
+        if executor is None or helpers <= 0:
             for i in indices:
                 fn(i)
             return
@@ -72,7 +73,7 @@ class PhysicsPool:
                     failed.append(exc)
                     return
 
-        futures = [self._executor.submit(drain) for _ in range(helpers)]
+        futures = [executor.submit(drain) for _ in range(helpers)]
         drain()
         for f in futures:
             f.result()
