@@ -173,7 +173,16 @@ def test_the_base_install_is_the_env_library_alone(tmp_path):
     assert _python(code, cwd=work, python=python).splitlines() == ["[]", str(len(unified_manip.TASKS))]
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     train = subprocess.run(
-        [str(venv / "bin" / "unified-manip"), "train", "--env", "UnifiedManip/Arm4Reach-v0", "--algo", "sac_her"],
+        [
+            str(venv / "bin" / "unified-manip"),
+            "train",
+            "--env",
+            "UnifiedManip/Arm4Reach-v0",
+            "--algo",
+            "sac_her",
+            "--steps",
+            "10",
+        ],
         capture_output=True,
         text=True,
         cwd=work,

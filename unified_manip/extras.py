@@ -26,7 +26,14 @@ def missing_modules(extra: str) -> list[str]:
     """The modules of ``extra`` that cannot be imported here (none: it is installed)."""
     if extra not in EXTRAS:
         raise ValueError(f"unknown extra {extra!r}; expected one of {', '.join(EXTRAS)}")
-    return [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+    return [m for m in EXTRAS[extra] if not _installed(m)]
+
+
+def _installed(module: str) -> bool:
+    # A directory of that name in the working directory (Ray's /tmp/ray, say) is a
+    # namespace package to the import system, with no origin: it is not the package.
+    spec = importlib.util.find_spec(module)
+    return spec is not None and spec.origin is not None
 
 
 def require(*extras: str, what: str) -> None:
