@@ -20,8 +20,8 @@ from conftest import DEMO_MODE, DEMO_TASK, demonstrated_model, interrupt_after_f
 
 from unified_manip.training.offline import OfflineError
 from unified_manip.training.pretrain import PretrainError, behaviour_clone, check_settings, seed_statistics
-from unified_manip.training.settings import RunConfig
 from unified_manip.training.request import TrainRequest
+from unified_manip.training.settings import RunConfig
 from unified_manip.training.train import train
 
 

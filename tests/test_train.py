@@ -416,7 +416,6 @@ def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_
         "1600 or more, or add demonstrations"
     )
     from unified_manip.training.hyperparams import check_her_warmup
-
     from unified_manip.training.settings import DemonstrationConfig, RunConfig
 
     eight = RunConfig(n_envs=8)
@@ -528,7 +527,10 @@ def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path,
     quiet = dict(progress=False, log=lambda msg: None)
     # Arm4Reach-v0 has a native vector env: its 2 envs are stepped (and monitored) as one;
     # one env is a DummyVecEnv of one Monitor-ed env.
-    for run, n_envs, expected, monitors in (("file", None, 2, ["native.monitor.csv"]), ("cli", 1, 1, ["0.monitor.csv"])):
+    for run, n_envs, expected, monitors in (
+        ("file", None, 2, ["native.monitor.csv"]),
+        ("cli", 1, 1, ["0.monitor.csv"]),
+    ):
         train(_tiny_request(tmp_path / run, steps=100, n_envs=n_envs), **quiet)
         config = yaml.safe_load((tmp_path / run / "config.yaml").read_text())
         assert config["n_envs"] == expected and "n_envs" not in config["hyperparameters"]
