@@ -291,3 +291,15 @@ def test_every_committed_result_still_reports_and_plots(results, tmp_path):
 
 def test_the_committed_results_are_all_found():
     assert len(COMMITTED) == 21
+
+
+def test_every_committed_config_yaml_reads_its_run_settings():
+    """``eval`` and a resume read the settings of old run directories from their config.yaml."""
+    configs = sorted((ROOT / "baselines" / "results").rglob("config.yaml"))
+    assert len(configs) == 139
+    runs = [rundir.run_settings(c.parent, rundir.read_config(c.parent))[0] for c in configs]
+    # The committed studies' demonstration levers, as their grids set them.
+    assert {r.demos.demonstrations for r in runs} == {0, 100}
+    assert {r.demos.bc_steps for r in runs} == {0, 5000}
+    assert {r.cloning_loss.bc_weight for r in runs} == {0.0, 1.6, 2.0, 1000}
+    assert {r.offline.offline_steps for r in runs} == {0, 10000}
