@@ -31,7 +31,7 @@ from unified_manip.training.settings import (
 from unified_manip.training.train import train
 
 ROOT = Path(__file__).resolve().parents[1]
-COMMITTED = sorted((ROOT / "baselines" / "results").glob("*/results.csv"))
+COMMITTED = sorted((ROOT / "results").glob("*/results.csv"))
 
 
 # ---------------------------------------------------------------------- the config itself
@@ -295,7 +295,7 @@ def test_the_committed_results_are_all_found():
 
 def test_every_committed_config_yaml_reads_its_run_settings():
     """``eval`` and a resume read the settings of old run directories from their config.yaml."""
-    configs = sorted((ROOT / "baselines" / "results").rglob("config.yaml"))
+    configs = sorted((ROOT / "results").rglob("config.yaml"))
     assert len(configs) == 139
     runs = [rundir.run_settings(c.parent, rundir.read_config(c.parent))[0] for c in configs]
     # The committed studies' demonstration levers, as their grids set them.
