@@ -98,6 +98,23 @@ CASES = {
         lambda t: TRAIN + ["--run-dir", str(t / "r")] + _baselines(t, "default: {learning_rate: 0.001\n"),
         "unified-manip train: error: {t}/hp/sac.yaml:2: not valid YAML (expected ',' or '}', but got '<stream end>')",
     ),
+    "run setting of the wrong type in a hyperparameter file": (
+        lambda t: (
+            TRAIN
+            + ["--run-dir", str(t / "r")]
+            + _baselines(t, "default: {policy: MultiInputPolicy}\nUnifiedManip/Arm4Reach-v0: {bc_weight: x}\n")
+        ),
+        "unified-manip train: error: {t}/hp/sac.yaml: UnifiedManip/Arm4Reach-v0: bc_weight must be a number >= 0, "
+        "got 'x'",
+    ),
+    "run setting out of range in --set": (
+        lambda t: TRAIN + ["--run-dir", str(t / "r"), "--set", "n_eval_episodes=0"],
+        "unified-manip train: error: --set 'n_eval_episodes=0': n_eval_episodes must be an integer >= 1, got 0",
+    ),
+    "eval a run whose config.yaml holds a bad setting": (
+        lambda t: ["eval", str(_run(t, {"normalize": "yes"}))],
+        "unified-manip eval: error: {t}/run/config.yaml: normalize must be true or false, got 'yes'",
+    ),
     "eval target missing": (
         lambda t: ["eval", str(t / "nope")],
         "unified-manip eval: error: {t}/nope does not exist; expected a run directory or a model .zip inside one",
@@ -205,8 +222,8 @@ def _baselines(tmp_path, sac_yaml: str) -> list[str]:
     return []
 
 
-def _run(tmp_path):
-    """A run directory with its config.yaml and nothing else yet."""
+def _run(tmp_path, hyperparameters: dict | None = None):
+    """A run directory with its config.yaml (holding ``hyperparameters``) and nothing else yet."""
     write(
         tmp_path / "run" / "config.yaml",
         yaml.safe_dump(
@@ -214,7 +231,7 @@ def _run(tmp_path):
                 "env": TASK,
                 "algo": "sac",
                 "env_kwargs": {"action_mode": "ee_delta", "reward_type": "sparse"},
-                "hyperparameters": {},
+                "hyperparameters": hyperparameters or {},
             }
         ),
     )

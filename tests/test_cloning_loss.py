@@ -126,8 +126,7 @@ def test_a_resumed_run_keeps_the_loss(tmp_path):
     )
     assert not {"train/bc_loss", "train/bc_q_filter"} & tb_tags(run)
     record = json.loads((run / "demonstrations.json").read_text())
-    assert record["cloning_loss_weight"] == 1.0 and record["cloning_loss_q_filter"] is False
-    assert record["cloning_loss_sampled"] is True
+    assert (record["bc_weight"], record["bc_q_filter"], record["bc_sampled"]) == (1.0, False, True)
     status = train(_request(run, **settings), progress=False, threads=1, log=lambda msg: None)
     assert status["state"] == "finished"
     assert {"train/bc_loss", "train/bc_q_filter"} <= tb_tags(run)

@@ -70,8 +70,9 @@ def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path
     run = tmp_path / "run"
     first: list[str] = []
     interrupt_after_first_checkpoint(run, lambda: train(_request(run), progress=False, threads=1, log=first.append))
-    record = json.loads((run / "demonstrations.json").read_text())["offline"]
-    assert record["steps"] == 30
+    document = json.loads((run / "demonstrations.json").read_text())
+    assert document["offline_steps"] == 30
+    record = document["offline"]
     for values in (record["first"], record["last"]):
         assert {"train/critic_loss", "train/actor_loss", "train/bc_loss", "train/bc_q_filter", "train/bc_error"} <= set(
             values

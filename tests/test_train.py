@@ -380,13 +380,13 @@ def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
     """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
     task without one), so ``train --algo ALGO`` works with the defaults on every ID x mode."""
     from unified_manip.training.demonstrations import check
-    from unified_manip.training.hyperparams import check_her_warmup, get_algo
+    from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve_run
 
     for task_id, spec in unified_manip.TASKS.items():
         for mode in spec.action_modes:
-            params = resolve(algo, task_id, action_mode=mode)
-            check(task_id, mode, get_algo(algo).off_policy, params.get("demonstrations", 0))
-            check_her_warmup(algo, params, params.get("n_envs", 1), spec.max_episode_steps)
+            resolved = resolve_run(algo, task_id, action_mode=mode)
+            check(task_id, mode, get_algo(algo).off_policy, resolved.run.demos.demonstrations)
+            check_her_warmup(algo, resolved.algo_kwargs, resolved.run, spec.max_episode_steps)
 
 
 def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_2(tmp_path):
@@ -416,12 +416,15 @@ def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_
         "1600 or more, or add demonstrations"
     )
     from unified_manip.training.hyperparams import check_her_warmup
+    from unified_manip.training.settings import DemonstrationConfig, RunConfig
 
-    check_her_warmup("tqc_her", {"learning_starts": 1592}, 8, 200)  # first update at step 1600: fine
+    eight = RunConfig(n_envs=8)
+    check_her_warmup("tqc_her", {"learning_starts": 1592}, eight, 200)  # first update at step 1600: fine
     with pytest.raises(HyperparameterError, match="starts training at step 1592, before the first episodes end"):
-        check_her_warmup("tqc_her", {"learning_starts": 1591}, 8, 200)
-    check_her_warmup("tqc_her", {"learning_starts": 1000, "demonstrations": 1}, 8, 200)  # finished episodes first
-    check_her_warmup("sac", {"learning_starts": 0}, 8, 200)  # no HER
+        check_her_warmup("tqc_her", {"learning_starts": 1591}, eight, 200)
+    demonstrated = RunConfig(n_envs=8, demos=DemonstrationConfig(demonstrations=1))
+    check_her_warmup("tqc_her", {"learning_starts": 1000}, demonstrated, 200)  # finished episodes first
+    check_her_warmup("sac", {"learning_starts": 0}, eight, 200)  # no HER
 
 
 # ---------------------------------------------------------------------- rl-baselines3-zoo
@@ -522,15 +525,21 @@ def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path,
     (tmp_path / "hp" / "sac.yaml").write_text(yaml.safe_dump(doc))
     monkeypatch.setattr(hyperparams, "DEFAULT_DIR", tmp_path / "hp")
     quiet = dict(progress=False, log=lambda msg: None)
-    for run, n_envs, expected in (("file", None, 2), ("cli", 1, 1)):
+    # Arm4Reach-v0 has a native vector env: its 2 envs are stepped (and monitored) as one;
+    # one env is a DummyVecEnv of one Monitor-ed env.
+    for run, n_envs, expected, monitors in (
+        ("file", None, 2, ["native.monitor.csv"]),
+        ("cli", 1, 1, ["0.monitor.csv"]),
+    ):
         train(_tiny_request(tmp_path / run, steps=100, n_envs=n_envs), **quiet)
         config = yaml.safe_load((tmp_path / run / "config.yaml").read_text())
         assert config["n_envs"] == expected and "n_envs" not in config["hyperparameters"]
-        assert sum(1 for _ in (tmp_path / run / "monitor" / "seg0").glob("*.csv")) in (1, expected)
+        assert sorted(p.name for p in (tmp_path / run / "monitor" / "seg0").glob("*.csv")) == monitors
     # The run resolves the same n_envs again: it is recognised as finished, not refused.
     assert train(_tiny_request(tmp_path / "file", steps=100), **quiet)["state"] == "finished"
-    with pytest.raises(hyperparams.HyperparameterError, match="n_envs must be at least 1, got 0"):
+    with pytest.raises(hyperparams.HyperparameterError) as err:
         hyperparams.resolve("sac", task, ("n_envs=0",))
+    assert str(err.value) == "--set 'n_envs=0': n_envs must be an integer >= 1, got 0"
 
 
 def test_torch_threads_follow_omp_num_threads_where_set(monkeypatch):
@@ -543,4 +552,7 @@ def test_torch_threads_follow_omp_num_threads_where_set(monkeypatch):
     monkeypatch.setenv("OMP_NUM_THREADS", "3")
     assert _default_threads() == 3
     monkeypatch.delenv("OMP_NUM_THREADS")
-    assert _default_threads() == max(1, min(2, os.cpu_count() or 1))
+    # Unset: up to 2, never more than the machine has, and 1 where it cannot tell.
+    for cores, threads in ((16, 2), (2, 2), (1, 1), (None, 1)):
+        monkeypatch.setattr(os, "cpu_count", lambda cores=cores: cores)
+        assert _default_threads() == threads

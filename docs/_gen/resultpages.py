@@ -23,19 +23,21 @@ ASSETS = "assets/results"
 
 
 def _demos(row) -> str:
+    """The demonstrations a row's runs started with, and the levers on them (every setting
+    under its own name, as :func:`~unified_manip.experiments.results.read_results` gives it)."""
     d = row.get("demonstrations")
     if not d:
         return "–"
     extra = []
-    if d.get("behaviour_cloning"):
-        extra.append(f"cloned {d['behaviour_cloning']['steps']:,} steps")
-    if d.get("offline"):
-        extra.append(f"{d['offline']['steps']:,} offline steps")
-    if d.get("cloning_loss_weight"):
+    if d["bc_steps"]:
+        extra.append(f"cloned {d['bc_steps']:,} steps")
+    if d["offline_steps"]:
+        extra.append(f"{d['offline_steps']:,} offline steps")
+    if d["bc_weight"]:
         extra.append(
-            f"cloning loss {d['cloning_loss_weight']:g}"
-            + ("" if d.get("cloning_loss_q_filter", True) else ", unfiltered")
-            + (", sampled" if d.get("cloning_loss_sampled") else "")
+            f"cloning loss {d['bc_weight']:g}"
+            + ("" if d["bc_q_filter"] else ", unfiltered")
+            + (", sampled" if d["bc_sampled"] else "")
         )
     return f"{d['episodes']}" + (f" ({'; '.join(extra)})" if extra else "")
 

@@ -4,14 +4,14 @@ before any run starts. The file format is described in :mod:`unified_manip.exper
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
-from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve
+from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 from unified_manip.training.yamlfile import YamlFileError, load_mapping
 
@@ -144,9 +144,10 @@ def load_grid(path: Path) -> Grid:
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
             try:  # every hyperparameter override is checked before anything starts
-                params = resolve(a, t, sets, action_mode=m)
-                check_her_warmup(a, params, n_envs[a] or params.get("n_envs", 1), TASKS[t].max_episode_steps)
-                check_demonstration_settings(t, m, ALGOS[a].off_policy, params)
+                resolved = resolve_run(a, t, sets, action_mode=m)
+                run = replace(resolved.run, n_envs=n_envs[a] or resolved.run.n_envs)
+                check_her_warmup(a, resolved.algo_kwargs, run, TASKS[t].max_episode_steps)
+                check_demonstration_settings(t, m, ALGOS[a].off_policy, run)
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
             except (TypeError, ValueError) as err:

@@ -38,36 +38,26 @@ def _fmt(x: float) -> str:
 
 def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     """What the runs that started from scripted demonstrations were given (a prior they
-    did not collect, so the report says so)."""
-    episodes = sorted({r["demonstrations"]["episodes"] for r in demonstrated})
-    success = [r["demonstrations"]["success"] for r in demonstrated]
-    cloned = [
-        r["demonstrations"]["behaviour_cloning"]["steps"]
-        for r in demonstrated
-        if r["demonstrations"].get("behaviour_cloning")
-    ]
+    did not collect, so the report says so). Each record holds every demonstration
+    setting under its own name (:func:`~unified_manip.experiments.results.read_results`)."""
+    records = [r["demonstrations"] for r in demonstrated]
+    episodes = sorted({d["episodes"] for d in records})
+    success = [d["success"] for d in records]
+    cloned = [d["bc_steps"] for d in records if d["bc_steps"]]
     cloning = (
         f" The actor of {len(cloned)} of them was behaviour-cloned on them first "
         f"({', '.join(f'{c:,}' for c in sorted(set(cloned)))} gradient steps)."
         if cloned
         else ""
     )
-    offline = [r["demonstrations"]["offline"]["steps"] for r in demonstrated if r["demonstrations"].get("offline")]
+    offline = [d["offline_steps"] for d in records if d["offline_steps"]]
     learned = (
         f" {len(offline)} of them took {', '.join(f'{s:,}' for s in sorted(set(offline)))} gradient steps of "
         "the algorithm's own update on them alone before the first rollout."
         if offline
         else ""
     )
-    losses = [
-        (
-            r["demonstrations"]["cloning_loss_weight"],
-            r["demonstrations"].get("cloning_loss_q_filter", True),
-            r["demonstrations"].get("cloning_loss_sampled", False),
-        )
-        for r in demonstrated
-        if r["demonstrations"].get("cloning_loss_weight")
-    ]
+    losses = [(d["bc_weight"], d["bc_q_filter"], d["bc_sampled"]) for d in records if d["bc_weight"]]
     loss = (
         f" {len(losses)} of them kept a cloning loss on them in every actor update ("
         + "; ".join(

@@ -13,6 +13,7 @@ import numpy as np
 import yaml
 
 from unified_manip.training.rundir import CONFIG, read_status
+from unified_manip.training.settings import demonstration_record
 
 RESULT_COLUMNS = (
     "run",
@@ -29,7 +30,9 @@ RESULT_COLUMNS = (
     "versions",
 )
 #: Written by the bench, absent from older files: the run's ``demonstrations.json``
-#: (episodes, transitions, success of the scripted episodes it started with), JSON or "".
+#: (episodes, transitions, success of the scripted episodes it started with, and its
+#: demonstration settings under their hyperparameter names), JSON or "". Read back with
+#: every setting under its own name (older records' names are mapped, defaults filled in).
 OPTIONAL_COLUMNS = ("demonstrations",)
 
 
@@ -110,7 +113,8 @@ def read_results(path: Path) -> list[dict[str, Any]]:
                 r[k] = float(r[k])
             r["curve"] = json.loads(r["curve"])
             r["versions"] = json.loads(r["versions"])
-            r["demonstrations"] = json.loads(r.get("demonstrations") or "null")
+            record = json.loads(r.get("demonstrations") or "null")
+            r["demonstrations"] = demonstration_record(record) if record else None
         except (TypeError, ValueError) as err:
             raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
     return rows

@@ -27,18 +27,22 @@ from pathlib import Path
 
 
 def _model(task: str, buffer_size: int, steps: int):
-    from unified_manip.training.hyperparams import get_algo, resolve
+    from unified_manip.training.hyperparams import get_algo, resolve_run
     from unified_manip.training.run_envs import make_vec_env
     from unified_manip.training.run_envs import model_kwargs as _model_kwargs
     from unified_manip.training.run_envs import normalized as _normalized
 
-    params = resolve("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
-    params.pop("device", None)
+    resolved = resolve_run("sac_her", task, (f"buffer_size={buffer_size}", f"learning_starts={steps * 2}"))
+    run, kwargs = resolved.run, resolved.algo_kwargs
     env = _normalized(
-        make_vec_env(task, {"action_mode": "ee_delta", "reward_type": "sparse"}, 1, 0, None), params, None, True
+        make_vec_env(task, {"action_mode": "ee_delta", "reward_type": "sparse"}, 1, 0, None),
+        run,
+        None,
+        True,
+        gamma=float(kwargs.get("gamma", 0.99)),
     )
     model = get_algo("sac_her").cls()(
-        env=env, seed=0, device="cpu", verbose=0, **_model_kwargs("sac_her", params, env.action_space.shape[0])
+        env=env, seed=0, device="cpu", verbose=0, **_model_kwargs("sac_her", kwargs, run, env.action_space.shape[0])
     )
     model.learn(steps)
     return model

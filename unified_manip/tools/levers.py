@@ -126,12 +126,13 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.training.hyperparams import get_algo, resolve
+    from unified_manip.training.hyperparams import get_algo, resolve_run
     from unified_manip.training.run_envs import model_kwargs as _model_kwargs
     from unified_manip.training.run_envs import normalized as _normalized
 
     algo = get_algo(lever.algo)
-    params = resolve(lever.algo, task_id, lever.overrides + (f"learning_starts={warmup}", "buffer_size=100000"))
+    resolved = resolve_run(lever.algo, task_id, lever.overrides + (f"learning_starts={warmup}", "buffer_size=100000"))
+    run, kwargs = resolved.run, resolved.algo_kwargs
     env = make_vec_env(
         task_id,
         n_envs=lever.n_envs,
@@ -139,9 +140,13 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
         vec_env_cls=DummyVecEnv,
         env_kwargs={"action_mode": action_mode, "reward_type": "sparse"},
     )
-    env = _normalized(env, params, None, training=True)
+    env = _normalized(env, run, None, training=True, gamma=float(kwargs.get("gamma", 0.99)))
     return algo.cls()(
-        env=env, seed=seed, device=device, verbose=0, **_model_kwargs(lever.algo, params, env.action_space.shape[0])
+        env=env,
+        seed=seed,
+        device=device,
+        verbose=0,
+        **_model_kwargs(lever.algo, kwargs, run, env.action_space.shape[0]),
     )
 
 

@@ -187,12 +187,12 @@ def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0)
     import torch
     from stable_baselines3 import SAC, HerReplayBuffer
 
-    from unified_manip.training.hyperparams import RUN_KEYS, resolve
+    from unified_manip.training.hyperparams import resolve_run
 
     spec = TASKS[task_id]
     if not spec.upstream_id:
         raise ValueError(f"{task_id} wraps no Gymnasium env (TaskSpec.upstream_id is None)")
-    params = {k: v for k, v in resolve("sac_her", task_id).items() if k not in RUN_KEYS}
+    params = resolve_run("sac_her", task_id).algo_kwargs
     params["learning_starts"] = min(params.get("learning_starts", 100), steps // 3)
     torch.set_num_threads(1)
 

@@ -7,13 +7,14 @@ from __future__ import annotations
 import os
 from collections import deque
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList, EvalCallback
 
 from unified_manip.training import checkpoints
 from unified_manip.training.rundir import write_status
+from unified_manip.training.settings import RunConfig
 
 
 class SuccessRate(BaseCallback):
@@ -226,29 +227,28 @@ def resume_evaluations(evaluation: EvalCallback, path: Path, upto: int) -> None:
 def make_callbacks(
     total: int,
     run_dir: Path,
-    params: dict[str, Any],
+    run: RunConfig,
     eval_env,
     off_policy: bool,
     progress: bool,
     scales: Mapping[str, float],
     elapsed: Callable[[], float],
     resumed_at: int = 0,
-    n_envs: int = 1,
     stop: StopOnSignal | None = None,
 ) -> CallbackList:
     """The callbacks of a run that trains to ``total`` env steps; ``elapsed()`` is the
     run's wall time so far (all segments), recorded at each checkpoint.
 
-    ``n_envs`` is the number of *training* envs: EvalCallback counts calls of the
-    training env's step, each ``n_envs`` env steps, so ``eval_freq`` (env steps) is
-    divided by it. ``scales`` are the reward terms' scales (:class:`RewardTerms`);
+    ``run`` gives the evaluation and checkpoint frequencies and the number of *training*
+    envs (``n_envs``): EvalCallback counts calls of the training env's step, each ``n_envs``
+    env steps, so ``eval_freq`` (env steps) is divided by it. ``scales`` are the reward terms' scales (:class:`RewardTerms`);
     ``stop`` is the run's :class:`StopOnSignal`, if it handles signals.
     """
     evaluation = EvalCallback(
         eval_env,
         callback_on_new_best=SaveBestStats(run_dir),
-        eval_freq=max(int(params.get("eval_freq", 10_000)) // max(n_envs, 1), 1),
-        n_eval_episodes=int(params.get("n_eval_episodes", 20)),
+        eval_freq=max(run.eval_freq // run.n_envs, 1),
+        n_eval_episodes=run.n_eval_episodes,
         log_path=str(run_dir / "eval"),
         best_model_save_path=str(run_dir / "best"),
         deterministic=True,
@@ -259,13 +259,13 @@ def make_callbacks(
         # EvalCallback evaluates when its call count is a multiple of eval_freq; counting
         # on from the resume step keeps the evaluation points of an uninterrupted run, the
         # last one at the budget.
-        evaluation.n_calls = resumed_at // max(n_envs, 1)
+        evaluation.n_calls = resumed_at // run.n_envs
     return CallbackList(
         [
             *([stop] if stop is not None else []),
             RewardTerms(scales),
             SuccessRate(off_policy),
-            Checkpoint(params.get("checkpoint_freq", 10_000), run_dir, off_policy, elapsed),
+            Checkpoint(run.checkpoint_freq, run_dir, off_policy, elapsed),
             evaluation,
             Progress(total, progress),
         ]

@@ -61,6 +61,7 @@ def evaluate(
     try:
         run_dir = rundir.containing(Path(target))
         config = rundir.read_config(run_dir)
+        run, algo_kwargs = rundir.run_settings(run_dir, config)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
     env_kwargs = dict(config["env_kwargs"])
@@ -88,10 +89,10 @@ def evaluate(
     env = gym.make(config["env"], **env_kwargs, **render)
     # HER models need an env to load; give them one over the same instance.
     venv = DummyVecEnv([lambda: env])
-    model = algo.load(model_path, config["hyperparameters"].get("policy"), env=venv, device=device)
+    model = algo.load(model_path, algo_kwargs.get("policy"), env=venv, device=device)
     normalizer = None
-    if config["hyperparameters"].get("normalize"):
-        normalizer = normalized(venv, config["hyperparameters"], _stats_for(model_path, run_dir), training=False)
+    if run.normalize:
+        normalizer = normalized(venv, run, _stats_for(model_path, run_dir), training=False)
     returns, successes, frames = [], 0, []
     for ep in range(episodes):
         obs, info = env.reset(seed=seed + ep)

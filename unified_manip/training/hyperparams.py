@@ -5,7 +5,8 @@ anchors and merge keys (``<<: *defaults``) share values; every value is a YAML l
 nothing is ever evaluated. An entry is the ``default`` entry updated by the task's own.
 
 Keys are either keyword arguments of the algorithm's constructor (checked against the
-Stable-Baselines3 signature) or one of :data:`RUN_KEYS`. ``--set key=value`` sets any
+Stable-Baselines3 signature) or run settings (:class:`~unified_manip.training.settings.RunConfig`,
+which checks its own). :func:`resolve_run` builds both, once. ``--set key=value`` sets any
 such key (``policy_kwargs.net_arch=[64,64]`` reaches into a mapping the entry already
 has); the value is parsed as a YAML literal and must have the type the algorithm's
 signature (or, inside a mapping, the existing value) allows.
@@ -22,22 +23,8 @@ from typing import Any
 
 import yaml
 
-#: Settings of the run rather than of the algorithm.
-RUN_KEYS: dict[str, type] = {
-    "eval_freq": int,  # env steps between evaluations (EvalCallback)
-    "n_eval_episodes": int,  # episodes per evaluation
-    "checkpoint_freq": int,  # env steps between resumable checkpoints
-    "action_noise_std": float,  # TD3: std of Gaussian exploration noise, in action units
-    "normalize": bool,  # running mean/std observation normalisation (VecNormalize), as the zoo's normalize
-    "device": str,  # auto | cpu | cuda; --device overrides it (where a run executes, not compared on resume)
-    "n_envs": int,  # parallel envs, at least 1; train --n-envs and a grid's n_envs override it
-    "demonstrations": int,  # off-policy: episodes of the scripted policy put in the replay buffer first
-    "bc_steps": int,  # with demonstrations: actor gradient steps of behaviour cloning on them before training
-    "bc_weight": float,  # with demonstrations: weight of a Q-filtered cloning loss in every actor update
-    "bc_q_filter": bool,  # with bc_weight: keep the loss only where Q rates the demonstrated action higher (default true)
-    "bc_sampled": bool,  # with bc_weight: the loss on a stochastic actor's sampled action, not its mean (default false)
-    "offline_steps": int,  # with demonstrations: gradient steps of the algorithm's own update on them alone first
-}
+from unified_manip.training.settings import KEYS as SETTING_KEYS
+from unified_manip.training.settings import RunConfig, RunConfigError, check_setting, split
 
 
 def _default_dir() -> Path:
@@ -179,7 +166,7 @@ def _type_names(allowed: tuple[type, ...]) -> str:
 def valid_keys(algo: Algo) -> dict[str, tuple[type, ...] | None]:
     """Every key a hyperparameter entry of ``algo`` may hold, with its allowed types."""
     keys = dict(_signature_types(algo))
-    keys.update({k: (t,) if t is not float else (float, int) for k, t in RUN_KEYS.items()})
+    keys.update(dict.fromkeys(SETTING_KEYS))  # RunConfig checks its own (check_setting)
     return keys
 
 
@@ -235,39 +222,80 @@ def resolve(
     directory: Path | None = None,
     action_mode: str | None = None,
 ) -> dict[str, Any]:
-    """The hyperparameters for ``task_id``: default entry, task entry, the task's entry for
-    ``action_mode`` (where the file has one: a recipe that holds in some modes only), then
-    overrides."""
+    """The hyperparameters for ``task_id``, one flat mapping: default entry, task entry,
+    the task's entry for ``action_mode`` (where the file has one: a recipe that holds in
+    some modes only), then overrides. Every value is checked where it is given: an error
+    names the file and entry (or the ``--set``) and the key."""
     algo = get_algo(algo_name)
+    path = Path(directory or DEFAULT_DIR) / f"{algo.name}.yaml"
     data = load_file(algo, directory)
-    params = copy.deepcopy(data["default"])
-    params.update(copy.deepcopy(data.get(task_id) or {}))
-    if action_mode is not None:
-        params.update(copy.deepcopy(data.get(mode_entry(task_id, action_mode)) or {}))
     keys = valid_keys(algo)
-    for key, value in params.items():
-        if key not in keys:
-            raise HyperparameterError(
-                f"{algo.name}.yaml: unknown hyperparameter {key!r} for {algo.cls_name}; expected one of {', '.join(sorted(keys))}"
-            )
-        if not _type_ok(value, keys[key]):
-            raise HyperparameterError(f"{algo.name}.yaml: {key} must be {_type_names(keys[key])}, got {value!r}")
+    params: dict[str, Any] = {}
+    entries = ["default", task_id] + ([mode_entry(task_id, action_mode)] if action_mode is not None else [])
+    for entry in entries:
+        given = copy.deepcopy(data.get(entry) or {})
+        for key, value in given.items():
+            where = f"{path}: {entry}"
+            if key not in keys:
+                raise HyperparameterError(
+                    f"{where}: unknown hyperparameter {key!r} for {algo.cls_name}; expected one of {', '.join(sorted(keys))}"
+                )
+            if key in SETTING_KEYS:
+                _check_setting(where, key, value)
+            elif not _type_ok(value, keys[key]):
+                raise HyperparameterError(f"{where}: {key} must be {_type_names(keys[key])}, got {value!r}")
+        params.update(given)
     for item in overrides:
         apply_override(params, item, keys)
-    if "n_envs" in params and params["n_envs"] < 1:
-        raise HyperparameterError(f"{algo.name}.yaml: n_envs must be at least 1, got {params['n_envs']!r}")
     return params
 
 
-def check_her_warmup(algo_name: str, params: dict[str, Any], n_envs: int, episode_steps: int) -> None:
+@dataclass(frozen=True)
+class Resolved:
+    """A run's hyperparameters, resolved once (:func:`resolve_run`).
+
+    Attributes:
+        hyperparameters: The flat mapping as given (what ``config.yaml`` records).
+        run: The run settings among them, defaults filled in.
+        algo_kwargs: The rest: the algorithm's keyword arguments.
+    """
+
+    hyperparameters: dict[str, Any]
+    run: RunConfig
+    algo_kwargs: dict[str, Any]
+
+
+def resolve_run(
+    algo_name: str,
+    task_id: str,
+    overrides: tuple[str, ...] = (),
+    directory: Path | None = None,
+    action_mode: str | None = None,
+) -> Resolved:
+    """:func:`resolve`'s mapping, split into the :class:`RunConfig` and the algorithm's keyword arguments."""
+    params = resolve(algo_name, task_id, overrides, directory, action_mode)
+    run, algo_kwargs = split(params)
+    return Resolved(params, run, algo_kwargs)
+
+
+def _check_setting(where: str, key: str, value: Any) -> None:
+    try:
+        check_setting(key, value)
+    except RunConfigError as err:
+        raise HyperparameterError(f"{where}: {err}") from None
+
+
+def check_her_warmup(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, episode_steps: int) -> None:
     """Raise :class:`HyperparameterError` if a HER run would start training before any
     episode has ended: HER draws its goals from finished episodes, and SB3 stops the run
-    there with a traceback. The envs of a vector env end their first episodes together,
-    at step ``n_envs * episode_steps``; demonstrations put finished episodes in first."""
+    there with a traceback. The ``run.n_envs`` envs of a vector env end their first
+    episodes together, at step ``n_envs * episode_steps``; demonstrations put finished
+    episodes in first."""
     algo = get_algo(algo_name)
-    if not algo.her or params.get("demonstrations", 0):
+    if not algo.her or run.demos.demonstrations:
         return
-    starts = params.get("learning_starts", inspect.signature(algo.cls()).parameters["learning_starts"].default)
+    n_envs = run.n_envs
+    starts = algo_kwargs.get("learning_starts", inspect.signature(algo.cls()).parameters["learning_starts"].default)
     first_update = (starts // n_envs + 1) * n_envs  # SB3 trains once num_timesteps > learning_starts
     first_end = n_envs * episode_steps
     if first_update < first_end:
@@ -298,6 +326,10 @@ def apply_override(params: dict[str, Any], item: str, keys: dict[str, tuple[type
         raise HyperparameterError(
             f"unknown hyperparameter {top!r} in --set {item!r}; expected one of {', '.join(sorted(keys))}"
         )
+    if len(path) == 1 and top in SETTING_KEYS:
+        _check_setting(f"--set {item!r}", top, value)
+        params[top] = value
+        return
     if len(path) == 1:
         allowed = keys.get(top)
         if not _type_ok(value, allowed):

@@ -20,7 +20,10 @@ is no example of acting toward another.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from unified_manip.training.settings import RunConfig
 
 
 class PretrainError(ValueError):
@@ -36,8 +39,8 @@ def check(bc_steps: int, demonstrations: int) -> None:
         raise PretrainError(f"bc_steps={bc_steps} clones the demonstrations; set demonstrations to 1 or more episodes")
 
 
-def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dict[str, Any]) -> None:
-    """Raise a ``ValueError`` unless a run with hyperparameters ``params`` can take the
+def check_settings(task_id: str, action_mode: str, off_policy: bool, run: RunConfig) -> None:
+    """Raise a ``ValueError`` unless a run with settings ``run`` can take the
     demonstrations (:func:`unified_manip.training.demonstrations.check`), the cloning it asks for
     (before training, and the loss during it: :func:`unified_manip.training.cloning_loss.check`) and
     the offline steps (:func:`unified_manip.training.offline.check`):
@@ -46,13 +49,12 @@ def check_settings(task_id: str, action_mode: str, off_policy: bool, params: dic
     from unified_manip.training.demonstrations import check as check_demonstrations
     from unified_manip.training.offline import check as check_offline
 
-    episodes = params.get("demonstrations", 0)
+    episodes = run.demos.demonstrations
     check_demonstrations(task_id, action_mode, off_policy, episodes)
-    check(params.get("bc_steps", 0), episodes)
-    check_offline(params.get("offline_steps", 0), episodes)
-    check_cloning_loss(
-        params.get("bc_weight", 0), episodes, params.get("bc_q_filter", True), params.get("bc_sampled", False)
-    )
+    check(run.demos.bc_steps, episodes)
+    check_offline(run.offline.offline_steps, episodes)
+    loss = run.cloning_loss
+    check_cloning_loss(loss.bc_weight, episodes, loss.bc_q_filter, loss.bc_sampled)
 
 
 #: Demonstrated actions at the edge of the box (a gripper's -1 or +1) are fitted as this

@@ -10,8 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.training.hyperparams import RUN_KEYS, get_algo
+from unified_manip.training.hyperparams import get_algo
 from unified_manip.training.request import TrainError, TrainRequest
+from unified_manip.training.settings import RunConfig
 
 
 def make_vec_env(
@@ -81,35 +82,36 @@ def eval_env(req: TrainRequest, n_envs: int):
     return env
 
 
-def model_kwargs(algo_name: str, params: dict[str, Any], action_dim: int) -> dict[str, Any]:
-    """The algorithm's keyword arguments: ``params`` less the run's own keys, plus the
-    HER replay buffer and TD3's action noise."""
+def model_kwargs(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, action_dim: int) -> dict[str, Any]:
+    """The algorithm's keyword arguments: ``algo_kwargs``, plus the HER replay buffer and
+    TD3's action noise (``run.action_noise_std``)."""
     algo = get_algo(algo_name)
-    kwargs = {k: v for k, v in params.items() if k not in RUN_KEYS}
+    kwargs = dict(algo_kwargs)
     if algo.her:
         kwargs["replay_buffer_class"] = algo.buffer_cls()
-    if "action_noise_std" in params:
+    if run.action_noise_std is not None:
         from stable_baselines3.common.noise import NormalActionNoise
 
-        std = float(params["action_noise_std"])
+        std = float(run.action_noise_std)
         kwargs["action_noise"] = NormalActionNoise(np.zeros(action_dim), std * np.ones(action_dim))
     return kwargs
 
 
-def normalized(venv, params: dict[str, Any], stats: Path | None, training: bool):
-    """Wrap ``venv`` in VecNormalize when the run normalises observations.
+def normalized(venv, run: RunConfig, stats: Path | None, training: bool, gamma: float = 0.99):
+    """Wrap ``venv`` in VecNormalize when the run normalises observations (``run.normalize``).
 
     Rewards are left as the task defines them (HER recomputes them from goals); with
-    ``stats`` the saved running statistics are loaded, otherwise they start fresh.
+    ``stats`` the saved running statistics are loaded, otherwise they start fresh
+    (``gamma``: the algorithm's discount, which VecNormalize keeps for its return statistics).
     """
-    if not params.get("normalize"):
+    if not run.normalize:
         return venv
     from stable_baselines3.common.vec_env import VecNormalize
 
     if stats is not None:
         venv = VecNormalize.load(str(stats), venv)
     else:
-        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=float(params.get("gamma", 0.99)))
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=gamma)
     venv.training = training
     venv.norm_reward = False
     return venv

@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from unified_manip.training.runlock import LOCK_FILE, DirectoryInUse, DirectoryLock
+from unified_manip.training.settings import RunConfig, RunConfigError, split
 
 STATUS = "status.json"
 CONFIG = "config.yaml"
@@ -130,6 +131,20 @@ def read_config(run_dir: Path) -> dict[str, Any]:
         return load_mapping(Path(run_dir) / CONFIG, "a run's settings (written by unified-manip train)")
     except YamlFileError as err:
         raise RunDirectoryError(str(err)) from None
+
+
+def run_settings(run_dir: Path, config: dict[str, Any]) -> tuple[RunConfig, dict[str, Any]]:
+    """``(run settings, the algorithm's keyword arguments)`` a run's ``config.yaml`` (``config``,
+    read from ``run_dir``) records: its ``hyperparameters`` with the ``n_envs`` and ``device``
+    it ran with. Older files read the same (the keys are the hyperparameter file's)."""
+    recorded = {**config.get("hyperparameters", {})}
+    for key in ("n_envs", "device"):
+        if config.get(key) is not None:
+            recorded[key] = config[key]
+    try:
+        return split(recorded)
+    except (RunConfigError, TypeError) as err:
+        raise RunDirectoryError(f"{Path(run_dir) / CONFIG}: {err}") from None
 
 
 def check_same_run(run_dir: Path, config: dict[str, Any], compared: tuple[str, ...]) -> None:

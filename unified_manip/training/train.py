@@ -15,6 +15,7 @@ import json
 import os
 import signal
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +25,7 @@ from unified_manip.envs.registry import get_task
 from unified_manip.training import checkpoints, rundir
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
-from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve
+from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve_run
 from unified_manip.training.request import TrainError, TrainRequest
 from unified_manip.training.run_envs import make_vec_env
 from unified_manip.training.run_envs import model_kwargs as _model_kwargs
@@ -38,6 +39,7 @@ from unified_manip.training.rundir import (
     write_atomic,
     write_status,
 )
+from unified_manip.training.settings import CloningLossConfig, RunConfig, demonstration_settings
 
 __all__ = [
     "CONFIG",
@@ -79,42 +81,41 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
-    params = resolve(req.algo, req.env, req.overrides, action_mode=req.action_mode)
-    # The device is where a run executes, not what it is: it stays out of the compared
-    # hyperparameters, so a run started on one device resumes on another.
     try:
-        device = resolve_device(req.device or params.pop("device", "auto"))
+        resolved = resolve_run(req.algo, req.env, req.overrides, action_mode=req.action_mode)
+        # The device is where a run executes, not what it is: it stays out of the compared
+        # hyperparameters, so a run started on one device resumes on another.
+        device = resolve_device(req.device or resolved.run.device)
     except DeviceError as err:
         raise TrainError(str(err)) from None
-    params.pop("device", None)
     # The envs a run steps are recorded (and compared) as config.yaml's n_envs.
-    file_n_envs = params.pop("n_envs", 1)
-    n_envs = req.n_envs if req.n_envs is not None else file_n_envs
+    n_envs = req.n_envs if req.n_envs is not None else resolved.run.n_envs
+    run = replace(resolved.run, device=device, n_envs=n_envs)
+    params = {k: v for k, v in resolved.hyperparameters.items() if k not in ("device", "n_envs")}
     from unified_manip.envs.vector.factory import resolve_vec
     from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
-        check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, params)
-        check_her_warmup(req.algo, params, n_envs, get_task(req.env).max_episode_steps)
+        check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, run)
+        check_her_warmup(req.algo, resolved.algo_kwargs, run, get_task(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
     config = rundir.config_document(req, n_envs, params, argv, device)
     try:
         with rundir.owned(run_dir, lock_wait_s):  # everything below runs as the directory's only owner
-            return _train_owned(req, n_envs, run_dir, config, params, device, progress, log, threads)
+            return _train_owned(req, run, resolved.algo_kwargs, run_dir, config, progress, log, threads)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
 
 
 def _train_owned(
     req: TrainRequest,
-    n_envs: int,
+    run: RunConfig,
+    algo_kwargs: dict[str, Any],
     run_dir: Path,
     config: dict[str, Any],
-    params: dict[str, Any],
-    device: str,
     progress: bool,
     log,
     threads: int | None,
@@ -127,6 +128,8 @@ def _train_owned(
     from unified_manip.training.run_envs import eval_env as make_eval_env
 
     algo = get_algo(req.algo)
+    n_envs, device = run.n_envs, run.device
+    gamma = float(algo_kwargs.get("gamma", 0.99))
     rundir.check_same_run(run_dir, config, rundir.COMPARED)
     if req.restart:
         rundir.clear_outputs(run_dir)
@@ -137,7 +140,7 @@ def _train_owned(
         return status
     # EvalCallback copies the training statistics into the eval env before each evaluation.
     # It is made first: env keyword arguments the task refuses end here, before any file.
-    eval_env = _normalized(make_eval_env(req, n_envs), params, None, training=False)
+    eval_env = _normalized(make_eval_env(req, n_envs), run, None, training=False, gamma=gamma)
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
@@ -156,14 +159,14 @@ def _train_owned(
 
     def load(ckpt: checkpoints.Checkpoint):
         stats = ckpt.path(checkpoints.VECNORMALIZE)
-        if params.get("normalize") and stats is None:
+        if run.normalize and stats is None:
             raise checkpoints.CheckpointError(
                 f"{ckpt.directory}: no observation statistics (vecnormalize) for a normalize run"
             )
         model = algo.load(
             ckpt.path(checkpoints.MODEL),
-            params.get("policy"),
-            env=_normalized(raw_env, params, stats, training=True),
+            algo_kwargs.get("policy"),
+            env=_normalized(raw_env, run, stats, training=True, gamma=gamma),
             device=device,
         )
         if model.num_timesteps != ckpt.step:
@@ -196,37 +199,34 @@ def _train_owned(
         else:
             if status is not None:
                 log(f"{run_dir}: unfinished run without a checkpoint; starting again from step 0")
-            env = _normalized(raw_env, params, None, training=True)
+            env = _normalized(raw_env, run, None, training=True, gamma=gamma)
             model = cls(
                 env=env,
                 seed=req.seed,
                 device=device,
                 tensorboard_log=str(run_dir / "tb"),
                 verbose=0,
-                **_model_kwargs(req.algo, params, env.action_space.shape[0]),
+                **_model_kwargs(req.algo, algo_kwargs, run, env.action_space.shape[0]),
             )
-            if params.get("demonstrations"):
-                _demonstrate(model, req, n_envs, params, log)
-        if params.get("bc_weight"):
-            _keep_cloning(
-                model, req, params["bc_weight"], params.get("bc_q_filter", True), params.get("bc_sampled", False)
-            )
-        if not candidates and params.get("offline_steps"):  # with the cloning loss, if any, in its actor updates
-            _learn_offline(model, req, params["offline_steps"], log, progress)
+            if run.demos.demonstrations:
+                _demonstrate(model, req, run, log)
+        if run.cloning_loss.bc_weight:
+            _keep_cloning(model, req, run.cloning_loss)
+        if not candidates and run.offline.offline_steps:  # with the cloning loss, if any, in its actor updates
+            _learn_offline(model, req, run.offline.offline_steps, log, progress)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
         callbacks = make_callbacks(
             req.steps,
             run_dir,
-            params,
+            run,
             eval_env,
             algo.off_policy,
             progress,
             _reward_scales(req),
             elapsed=lambda: elapsed_before + time.time() - started,
             resumed_at=int(model.num_timesteps),
-            n_envs=n_envs,
             stop=stop,
         )
         try:
@@ -275,51 +275,50 @@ def _default_threads() -> int:
         return max(1, min(2, os.cpu_count() or 1))
 
 
-def _demonstrate(model, req: TrainRequest, n_envs: int, params: dict[str, Any], log) -> None:
+def _demonstrate(model, req: TrainRequest, run: RunConfig, log) -> None:
     """Fill the new model's replay buffer with the scripted policy's ``demonstrations``
     episodes, played in envs of their own (see :mod:`unified_manip.training.demonstrations`), then
     behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.training.pretrain`),
     after seeding a normalising run's statistics from them where it clones or learns offline.
-    ``demonstrations.json`` records both, and the weight of the cloning loss kept during
-    training (``bc_weight``, :func:`_keep_cloning`); results.csv carries it."""
+    ``demonstrations.json`` records what was stored and learned beside every demonstration
+    setting under its own name (:func:`~unified_manip.training.settings.demonstration_settings`);
+    results.csv carries it."""
     from unified_manip.training.demonstrations import SEED_OFFSET, prefill
     from unified_manip.training.pretrain import behaviour_clone, seed_statistics
 
     # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
-    venv = make_vec_env(req.env, req.env_config(), n_envs, req.seed + SEED_OFFSET, None, "dummy")
+    venv = make_vec_env(req.env, req.env_config(), run.n_envs, req.seed + SEED_OFFSET, None, "dummy")
     try:
-        done = prefill(model, venv, req.env, req.action_mode, params["demonstrations"])
+        done = prefill(model, venv, req.env, req.action_mode, run.demos.demonstrations)
     finally:
         venv.close()
     log(
         f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer"
     )
-    bc_steps = params.get("bc_steps", 0)
-    if bc_steps or params.get("offline_steps"):
+    done.update(demonstration_settings(run))
+    bc_steps = run.demos.bc_steps
+    if bc_steps or run.offline.offline_steps:
         seed_statistics(model)
     if bc_steps:
-        cloned = done["behaviour_cloning"] = behaviour_clone(model, bc_steps)
+        cloned = behaviour_clone(model, bc_steps)
+        done["behaviour_cloning"] = {k: v for k, v in cloned.items() if k != "steps"}  # bc_steps says how many
         log(
             f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
             f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})"
         )
-    if params.get("bc_weight"):
-        done["cloning_loss_weight"] = params["bc_weight"]
-        done["cloning_loss_q_filter"] = params.get("bc_q_filter", True)
-        if params.get("bc_sampled"):
-            done["cloning_loss_sampled"] = True
     write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
 
 
 def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) -> None:
     """Take ``steps`` of the algorithm's own updates on the demonstrations alone
-    (:mod:`unified_manip.training.offline`) and add them to ``demonstrations.json``."""
+    (:mod:`unified_manip.training.offline`) and add what they learned to ``demonstrations.json``."""
     from unified_manip.training.offline import learn_offline
 
     path = req.directory / "demonstrations.json"
     done = json.loads(path.read_text())
-    learned = done["offline"] = learn_offline(model, steps, progress)
+    learned = learn_offline(model, steps, progress)
+    done["offline"] = {k: v for k, v in learned.items() if k != "steps"}  # offline_steps says how many
     first, last = learned["first"].get("train/critic_loss"), learned["last"].get("train/critic_loss")
     log(
         f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
@@ -328,15 +327,14 @@ def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) ->
     write_atomic(path, json.dumps(done, indent=2) + "\n")
 
 
-def _keep_cloning(model, req: TrainRequest, weight: float, q_filter: bool, sampled: bool) -> None:
-    """Add the cloning loss (Q-filtered unless ``q_filter`` is false; on the sampled action
-    where ``sampled``) on the recorded demonstrations to every actor update from here on
-    (:mod:`unified_manip.training.cloning_loss`; a resumed run adds it again)."""
+def _keep_cloning(model, req: TrainRequest, loss: CloningLossConfig) -> None:
+    """Add the cloning loss ``loss`` on the recorded demonstrations to every actor update
+    from here on (:mod:`unified_manip.training.cloning_loss`; a resumed run adds it again)."""
     from unified_manip.training.cloning_loss import CloningLossError, attach
 
     done = json.loads((req.directory / "demonstrations.json").read_text())
     try:
-        attach(model, done["transitions"], req.steps, weight, q_filter, sampled)
+        attach(model, done["transitions"], req.steps, loss.bc_weight, loss.bc_q_filter, loss.bc_sampled)
     except CloningLossError as err:
         raise TrainError(f"{req.directory}: {err}") from None
 
