@@ -290,13 +290,13 @@ def test_every_committed_result_still_reports_and_plots(results, tmp_path):
 
 
 def test_the_committed_results_are_all_found():
-    assert len(COMMITTED) == 21
+    assert len(COMMITTED) >= 21  # the 21 studies committed before RunConfig, and any since
 
 
 def test_every_committed_config_yaml_reads_its_run_settings():
     """``eval`` and a resume read the settings of old run directories from their config.yaml."""
     configs = sorted((ROOT / "results").rglob("config.yaml"))
-    assert len(configs) == 139
+    assert len(configs) >= 139  # the 139 run directories committed before RunConfig, and any since
     runs = [rundir.run_settings(c.parent, rundir.read_config(c.parent))[0] for c in configs]
     # The committed studies' demonstration levers, as their grids set them.
     assert {r.demos.demonstrations for r in runs} == {0, 100}
