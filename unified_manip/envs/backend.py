@@ -98,6 +98,41 @@ class Backend(abc.ABC):
     def close(self) -> None:
         """Release simulator and renderer resources."""
 
+    def get_state(self) -> np.ndarray:
+        """The simulator's full physics state: MuJoCo's ``mj_getState`` with
+        ``mjSTATE_FULLPHYSICS`` (time, ``qpos``, ``qvel``, actuator activations, history and
+        plugin state) of the backend's ``model`` and ``data``, as a float64 vector. Every
+        family here runs on MuJoCo (robosuite's ``sim.get_state().flatten()`` is a subset
+        of it), so this one definition serves them all."""
+        import mujoco
+
+        spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+        state = np.empty(mujoco.mj_stateSize(self.model, spec))
+        mujoco.mj_getState(self.model, self.data, state, spec)
+        return state
+
+    def set_state(self, state: np.ndarray) -> None:
+        """Restore a state from :meth:`get_state` (``ValueError`` for one of another size).
+
+        Only the physics is restored: the goal, the controller's own memory and any cached
+        observation stay as they are, so step the env to read an observation of it. A
+        state other than the current one is followed by ``mj_forward``, which recomputes
+        the derived quantities (site positions, velocities) from it. Restoring the state
+        the simulator already holds changes nothing: upstream code that reads the derived
+        quantities ``mj_step`` left (Fetch's mocap control reads the grip site as of the
+        last substep) then continues bit for bit."""
+        import mujoco
+
+        spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+        size = mujoco.mj_stateSize(self.model, spec)
+        state = np.asarray(state, dtype=np.float64)
+        if state.shape != (size,):
+            raise ValueError(f"a simulator state of this env has shape ({size},); got {state.shape}")
+        if np.array_equal(state, self.get_state()):
+            return
+        mujoco.mj_setState(self.model, self.data, state, spec)
+        mujoco.mj_forward(self.model, self.data)
+
     @contextmanager
     def timing_physics(self) -> Iterator[PhysicsTimer]:
         """Time every :meth:`physics_step` inside the ``with`` block (the timing hook of

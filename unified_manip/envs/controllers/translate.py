@@ -34,23 +34,49 @@ class EEDeltaInMode:
     """
 
     def __init__(self, backend: Any, ee: EEDelta) -> None:
+        self.tracker = SiteTracker(backend, ee)
+        self.step = ee.step
+
+    def __call__(self, ee_action: np.ndarray) -> np.ndarray:
+        target = self.tracker.rig.site_position() + np.asarray(ee_action[:3]) * self.step
+        return self.tracker(target, ee_action[3] if self.tracker.rig.has_gripper else None)
+
+
+class SiteTracker:
+    """The action of ``backend``'s mode that moves the grip site toward a world target.
+
+    An end-effector controller's ``site_action_toward`` the target; for a joint mode, the
+    target solved to joint targets by the task's ``ee_delta`` IK, then the joint
+    controller's ``action_toward`` them. ``unified-manip convert`` drives it with a recorded
+    grip-site trajectory; :class:`EEDeltaInMode` with ``p + a[:3] * step``.
+
+    Args:
+        backend: A backend with a ``rig`` and a ``control`` of the shared controllers.
+        ee: The task's ``ee_delta`` config (IK settings).
+
+    Raises:
+        ValueError: the backend's mode is not driven by a shared controller.
+    """
+
+    def __init__(self, backend: Any, ee: EEDelta) -> None:
         control: Any = getattr(backend, "control", None)
         self.site_mode = hasattr(control, "site_action_toward")
         if not (self.site_mode or hasattr(control, "action_toward")):
             raise ValueError(
                 "only the modes of the shared controllers can play ee_delta actions (not a source's own controller)"
             )
-        self.rig, self.control, self.step = backend.rig, control, ee.step
+        self.rig, self.control = backend.rig, control
         if not self.site_mode:
             self.ik = MinkIK(self.rig.model, self.rig, orientation_cost=ee.orientation_cost, iterations=ee.iterations)
 
-    def __call__(self, ee_action: np.ndarray) -> np.ndarray:
+    def __call__(self, target: np.ndarray, gripper: float | None) -> np.ndarray:
+        """The action toward ``target`` (world frame, m), with ``gripper`` (-1 closed, 1
+        open; ``None`` for a rig without one) passed through, clipped to [-1, 1]."""
         rig = self.rig
-        target = rig.site_position() + np.asarray(ee_action[:3]) * self.step
         if self.site_mode:
             arm = self.control.site_action_toward(target)
         else:
             q_target, _, _ = self.ik.solve(rig.data.qpos, target, rig.ee_rotation(target))
             arm = self.control.action_toward(q_target)
-        action = np.append(arm, ee_action[3]) if rig.has_gripper else arm
+        action = np.append(arm, gripper) if rig.has_gripper else arm
         return np.clip(action, -1.0, 1.0).astype(np.float32)
