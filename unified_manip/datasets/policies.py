@@ -1,0 +1,48 @@
+"""The policies ``collect`` can record without a trained run: the task's scripted one and
+uniform random actions. Each is built for one env (``env -> obs -> action``)."""
+
+from __future__ import annotations
+
+from unified_manip.datasets.episodes import Policy
+from unified_manip.datasets.errors import DatasetError
+
+
+def scripted(env) -> Policy:
+    """The task's scripted ``ee_delta`` policy, in ``env``'s action mode through
+    :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig."""
+    from unified_manip.envs.controllers.translate import EEDeltaInMode
+
+    spec = env.unwrapped.task
+    mode = env.unwrapped.config.action_mode
+    if spec.scripted_policy is None:
+        raise DatasetError(f"{spec.id} has no scripted policy; use --policy random or a trained run directory")
+    policy = spec.scripted_policy("ee_delta")
+    if mode == "ee_delta":
+        return policy
+    try:
+        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+    except ValueError:
+        modes = [m for m, c in spec.controllers.items() if c.controller is not None]
+        raise DatasetError(
+            f"the scripted policy cannot play {spec.id} in action_mode {mode!r} (the source's own controller); "
+            f"expected one of {', '.join(modes)}"
+        ) from None
+    return lambda obs: translate(policy(obs))
+
+
+class RandomPolicy:
+    """Uniform random actions from the env's action space, seeded by :meth:`seed` (the
+    recorder calls it with each episode's reset seed)."""
+
+    def __init__(self, env) -> None:
+        self.space = env.action_space
+
+    def seed(self, seed: int) -> None:
+        self.space.seed(seed)
+
+    def __call__(self, obs):
+        return self.space.sample()
+
+
+#: ``--policy`` names that need no run directory, and their builders.
+BUILT_IN = {"scripted": scripted, "random": RandomPolicy}
