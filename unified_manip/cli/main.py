@@ -10,6 +10,7 @@ from rich.console import Console
 from rich.table import Table
 
 from unified_manip.cli.args import Parser, positive_int, task_ids
+from unified_manip.cli.datasets import add_commands as add_dataset_commands
 from unified_manip.cli.runs import add_commands
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
@@ -150,6 +151,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_speed)
 
     add_commands(sub)  # train, eval, bench, report, plot
+    add_dataset_commands(sub)  # collect, replay, convert
 
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
     p.add_argument("--out", default="demo.png", help="output PNG")

@@ -66,6 +66,7 @@ def publish(out: Path, buffers: list, env: Any, metadata: dict[str, Any], descri
                 dataset_id=out.name,
                 buffer=buffers,
                 env=env,
+                eval_env=env,
                 algorithm_name=metadata["policy"],
                 author="unified_manip",
                 author_email="https://github.com/unified-manip",

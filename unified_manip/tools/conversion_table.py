@@ -1,0 +1,126 @@
+"""The conversion table: per task, the share of recorded ``ee_delta`` episodes that still
+succeed when ``convert`` re-executes them in each action mode, with the tracking error.
+
+Run it as ``python -m unified_manip.tools.conversion_table --env ID[,ID...] --episodes 50
+--out DIR``; it records ``--episodes`` successful scripted episodes per task into
+``DIR/<task>-ee_delta-v0``, converts them to every other mode (measuring only, no
+datasets written) and prints a Markdown table (and ``--json``'s document). For comparison
+it also plays the scripted policy live in each mode from the same reset seeds, its
+actions translated one by one (:class:`~unified_manip.envs.controllers.translate.EEDeltaInMode`,
+what a run's ``demonstrations`` do today).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+from unified_manip.datasets import DatasetError
+from unified_manip.datasets.convert import convert
+from unified_manip.datasets.policies import scripted
+from unified_manip.datasets.recording import collect
+from unified_manip.envs.registry import get_task
+
+
+def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, Any]:
+    """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
+    convert them to every mode of the task; ``{mode: {...}}`` per mode."""
+    spec = get_task(task_id)
+    path = Path(out) / f"{spec.name}-ee_delta-v0"
+    start = time.perf_counter()
+    recorded = collect(
+        task_id,
+        {"action_mode": "ee_delta", "reward_type": "sparse"},
+        scripted,
+        "scripted",
+        f"scripted policy of {task_id}",
+        episodes,
+        path,
+        seed=seed,
+        only_successful=True,
+        overwrite=True,
+        progress=False,
+    )
+    row: dict[str, Any] = {"recorded": recorded.as_dict(), "collect_s": time.perf_counter() - start, "modes": {}}
+    for mode in spec.action_modes:
+        start = time.perf_counter()
+        try:
+            report = convert(path, mode, None, progress=False)
+        except DatasetError as err:
+            row["modes"][mode] = {"error": str(err)}
+            continue
+        eps = report.episodes
+        seeds = [int(m["seed"]) for m in _seeds(path)]
+        row["modes"][mode] = {
+            "success": sum(e.success_converted for e in eps),
+            "episodes": len(eps),
+            "tracking_error_mean_cm": sum(e.tracking_error_mean_cm for e in eps) / len(eps),
+            "tracking_error_max_cm": max(e.tracking_error_max_cm for e in eps),
+            "seconds": time.perf_counter() - start,
+            "translated_success": _translated_successes(task_id, mode, seeds),
+        }
+    return row
+
+
+def _seeds(path: Path) -> list[dict[str, Any]]:
+    from unified_manip.datasets.store import open_dataset
+
+    dataset = open_dataset(path)
+    return list(dataset.storage.get_episode_metadata(dataset.episode_indices))
+
+
+def _translated_successes(task_id: str, mode: str, seeds: list[int]) -> int:
+    """Successes of the scripted policy played live in ``mode`` from ``seeds``."""
+    import gymnasium as gym
+
+    from unified_manip.datasets.episodes import play
+
+    env = gym.make(task_id, action_mode=mode)
+    try:
+        policy = scripted(env)
+        return sum(play(env, policy, seed).success for seed in seeds)
+    finally:
+        env.close()
+
+
+def markdown(results: dict[str, dict[str, Any]]) -> str:
+    """One row per task and mode: converted successes, mean and worst tracking error."""
+    lines = [
+        "| task | mode | converted success | tracking error, mean cm | worst step, cm | translated live |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for task_id, row in results.items():
+        for mode, m in row["modes"].items():
+            if "error" in m:
+                lines.append(f"| {task_id} | {mode} | — (no shared controller) | | | — |")
+                continue
+            share = m["success"] / m["episodes"]
+            lines.append(
+                f"| {task_id} | {mode} | {m['success']}/{m['episodes']} ({share:.2f}) | "
+                f"{m['tracking_error_mean_cm']:.2f} | {m['tracking_error_max_cm']:.2f} | "
+                f"{m['translated_success']}/{m['episodes']} |"
+            )
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--env", required=True, help="comma-separated task IDs")
+    parser.add_argument("--episodes", type=int, default=50)
+    parser.add_argument("--out", required=True, help="directory for the recorded datasets")
+    parser.add_argument("--json", help="also write the results here")
+    args = parser.parse_args(argv)
+    results = {}
+    for task_id in args.env.split(","):
+        results[task_id] = measure(task_id, args.episodes, Path(args.out))
+        if args.json:
+            Path(args.json).write_text(json.dumps(results, indent=2))
+        print(markdown({task_id: results[task_id]}), flush=True)
+    print(markdown(results))
+
+
+if __name__ == "__main__":
+    main()
