@@ -1,0 +1,187 @@
+"""The dataset commands on the command line: one-line errors with exit status 2 and
+nothing written for bad input, and Ctrl-C during collect leaves no dataset."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from unified_manip.cli.main import main
+
+
+@pytest.fixture(scope="module")
+def arm_dataset(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("cli") / "arm-v0"
+    assert (
+        main(["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "2", "--out", str(out), "--no-progress"])
+        == 0
+    )
+    return out
+
+
+def run_cli(argv: list[str], capsys) -> tuple[int, str, str]:
+    """``main(argv)``'s exit status, stdout and stderr."""
+    try:
+        code = main(argv)
+    except SystemExit as exit_:
+        code = exit_.code
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_collect_writes_a_dataset_that_replays(arm_dataset, capsys):
+    code, out, err = run_cli(["replay", str(arm_dataset), "--no-progress"], capsys)
+    assert (code, err) == (0, "")
+    assert out.endswith("exact: every step replayed bit for bit\n")
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "0", "--out", "{tmp}/d-v0"],
+            "unified-manip collect: error: argument --episodes: expected a positive integer, got '0'",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/HandReach-v0", "--action-mode", "ee_delta", "--episodes", "1"]
+            + ["--out", "{tmp}/d-v0"],
+            "unified-manip collect: error: action_mode 'ee_delta' is not supported by UnifiedManip/HandReach-v0; "
+            "expected one of 'joint_delta', 'joint_target_delta', 'native'",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/HandReach-v0", "--action-mode", "joint_delta", "--episodes", "1"]
+            + ["--out", "{tmp}/d-v0"],
+            "unified-manip collect: error: UnifiedManip/HandReach-v0 has no scripted policy; "
+            "use --policy random or a trained run directory",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/FetchReach-v0", "--action-mode", "native", "--episodes", "1"]
+            + ["--out", "{tmp}/d-v0"],
+            "unified-manip collect: error: the scripted policy cannot play UnifiedManip/FetchReach-v0 in action_mode "
+            "'native' (the source's own controller); expected one of joint_torque, joint_position, joint_delta, "
+            "joint_target_delta, joint_velocity, ee_delta, ee_target_delta",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--out", "{tmp}/no-version"],
+            "unified-manip collect: error: --out must end in a dataset name NAME-vN (Minari's ID), "
+            "e.g. data/arm4-pick-v0; got {tmp}/no-version",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--out", "{tmp}/run-v0"]
+            + ["--policy", "{tmp}/run"],
+            "unified-manip collect: error: the run {tmp}/run was trained on UnifiedManip/Arm4Push-v0; "
+            "it cannot play UnifiedManip/Arm4Reach-v0",
+        ),
+        (
+            ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--out", "{tmp}/x-v0"]
+            + ["--policy", "{tmp}/nowhere"],
+            "unified-manip collect: error: {tmp}/nowhere does not exist; expected a run directory or a model .zip "
+            "inside one",
+        ),
+        (
+            ["replay", "{tmp}"],
+            "unified-manip replay: error: {tmp} is not a dataset: expected a directory written by unified-manip "
+            "collect or convert",
+        ),
+        (
+            ["convert", "{tmp}", "--action-mode", "joint_delta", "--out", "{tmp}/c-v0"],
+            "unified-manip convert: error: {tmp} is not a dataset: expected a directory written by unified-manip "
+            "collect or convert",
+        ),
+    ],
+    ids=[
+        "episodes-0",
+        "mode-the-task-lacks",
+        "no-scripted-policy",
+        "scripted-in-native",
+        "out-without-version",
+        "run-of-another-task",
+        "missing-run",
+        "replay-not-a-dataset",
+        "convert-not-a-dataset",
+    ],
+)
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(argv, message, tmp_path, capsys):
+    (tmp_path / "run").mkdir()  # a run directory's settings, as train writes them (only env is read)
+    (tmp_path / "run" / "config.yaml").write_text("env: UnifiedManip/Arm4Push-v0\nenv_kwargs: {}\n")
+    before = sorted(os.listdir(tmp_path))
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv] + ["--no-progress"]
+    code, _, err = run_cli(argv, capsys)
+    assert (code, err) == (2, message.replace("{tmp}", str(tmp_path)) + "\n")
+    assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_an_existing_dataset_is_kept_without_overwrite(arm_dataset, capsys):
+    before = (arm_dataset / "data" / "main_data.hdf5").read_bytes()
+    for command in (
+        ["convert", str(arm_dataset), "--action-mode", "ee_delta"],
+        ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1"],
+    ):
+        code, _, err = run_cli(command + ["--out", str(arm_dataset), "--no-progress"], capsys)
+        assert (code, err) == (
+            2,
+            f"unified-manip {command[0]}: error: {arm_dataset} already exists; pass --overwrite to replace it\n",
+        )
+    assert (arm_dataset / "data" / "main_data.hdf5").read_bytes() == before
+
+
+def test_convert_refuses_a_mode_without_a_shared_controller(tmp_path, capsys):
+    source = tmp_path / "fetch-v0"
+    assert (
+        main(
+            ["collect", "--env", "UnifiedManip/FetchReach-v0", "--episodes", "1", "--out", str(source), "--no-progress"]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    code, _, err = run_cli(["convert", str(source), "--action-mode", "native", "--out", str(tmp_path / "n-v0")], capsys)
+    assert (code, err) == (
+        2,
+        "unified-manip convert: error: UnifiedManip/FetchReach-v0's action_mode 'native' is the source's own "
+        "controller, which cannot track a grip-site trajectory; expected one of joint_torque, joint_position, "
+        "joint_delta, joint_target_delta, joint_velocity, ee_delta, ee_target_delta\n",
+    )
+    assert sorted(os.listdir(tmp_path)) == ["fetch-v0"]
+
+
+@pytest.mark.parametrize("damage", ["truncated", "corrupted"])
+def test_a_damaged_dataset_is_refused_in_one_line(arm_dataset, damage, tmp_path, capsys):
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    h5 = copy / "data" / "main_data.hdf5"
+    data = bytearray(h5.read_bytes())
+    if damage == "truncated":
+        data = data[: len(data) // 2]
+    else:  # overwrite the middle third (episode data and their headers)
+        third = len(data) // 3
+        data[third : 2 * third] = b"\xff" * third
+    h5.write_bytes(bytes(data))
+    code, _, err = run_cli(["replay", str(copy), "--no-progress"], capsys)
+    assert code == 2
+    assert err.startswith(f"unified-manip replay: error: {copy}: its HDF5 file is truncated or corrupted (")
+    assert err.count("\n") == 1
+
+
+def test_ctrl_c_during_collect_leaves_no_dataset(tmp_path):
+    out = tmp_path / "big-v0"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "unified_manip.cli", "collect", "--env", "UnifiedManip/Arm4Reach-v0"]
+        + ["--episodes", "100000", "--out", str(out)],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    seen = ""
+    deadline = time.monotonic() + 120
+    while "episode" not in seen and time.monotonic() < deadline:  # the progress bar has started
+        seen += proc.stderr.read(1)
+    proc.send_signal(signal.SIGINT)
+    proc.communicate(timeout=60)
+    assert proc.returncode != 0
+    assert os.listdir(tmp_path) == []
