@@ -11,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from unified_manip.cli.main import main
@@ -185,3 +186,47 @@ def test_ctrl_c_during_collect_leaves_no_dataset(tmp_path):
     proc.communicate(timeout=60)
     assert proc.returncode != 0
     assert os.listdir(tmp_path) == []
+
+
+def test_collect_plays_a_trained_run_as_eval_does(tmp_path, capsys):
+    """``--policy RUN_DIR`` plays the run's model: on eval's seeds it succeeds exactly as
+    often as ``eval`` reports."""
+    import json
+
+    run = tmp_path / "run"
+    sets = ["learning_starts=100", "batch_size=64", "buffer_size=10000", "eval_freq=150", "n_eval_episodes=2"]
+    train = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "ee_delta", "--algo", "sac_her"]
+    train += ["--steps", "300", "--run-dir", str(run), "--no-progress"] + [a for s in sets for a in ("--set", s)]
+    assert main(train) == 0
+    assert main(["eval", str(run), "--episodes", "4", "--seed", "123", "--json", str(tmp_path / "eval.json")]) == 0
+    out = tmp_path / "played-v0"
+    collect = ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--policy", str(run), "--episodes", "4"]
+    assert main(collect + ["--seed", "123", "--out", str(out), "--no-progress"]) == 0
+    capsys.readouterr()
+    from unified_manip.datasets import store
+
+    dataset = store.open_dataset(out)
+    meta = store.metadata(dataset)
+    assert meta["policy"] == "run"
+    assert meta["source"] == f"run {run} (deterministic)"
+    assert meta["env_kwargs"]["action_mode"] == "ee_delta"
+    assert meta["success_rate"] == json.loads((tmp_path / "eval.json").read_text())["success_rate"]
+    import pickle
+
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from unified_manip.training.hyperparams import get_algo
+
+    env = dataset.recover_environment()
+    model = get_algo("sac_her").load(run / "best" / "best_model.zip", env=DummyVecEnv([lambda: env]))  # as eval
+    stats = pickle.loads((run / "best" / "vecnormalize.pkl").read_bytes())  # sac_her normalises observations
+    episode = next(dataset.iterate_episodes())
+    for t, action in enumerate(episode.actions):  # every recorded action is the model's own
+        obs = stats.normalize_obs({k: v[t] for k, v in episode.observations.items()})
+        np.testing.assert_array_equal(action, model.predict(obs, deterministic=True)[0])
+    code, _, err = run_cli(collect + ["--action-mode", "joint_delta", "--out", str(tmp_path / "x-v0")], capsys)
+    assert (code, err) == (
+        2,
+        f"unified-manip collect: error: the run {run} was trained with action_mode 'ee_delta'; "
+        "it cannot act with 'joint_delta'\n",
+    )

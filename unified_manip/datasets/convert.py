@@ -19,9 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.datasets import store, versions
+from unified_manip.datasets import store
 from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
+from unified_manip.datasets.policies import shared_modes
 
 
 @dataclass(frozen=True)
@@ -90,20 +91,26 @@ def convert(
                 f"{path} was recorded in {meta['env_kwargs'].get('action_mode')!r}, the source's own controller, "
                 "which has no grip-site rig to read its trajectory from; convert a dataset of a shared-controller mode"
             )
-        try:
-            tracker = SiteTracker(target.unwrapped.backend, task.controllers["ee_delta"])
-        except ValueError:
-            modes = [m for m, c in task.controllers.items() if c.controller is not None]
+        if action_mode not in shared_modes(task):
             raise DatasetError(
                 f"{task.id}'s action_mode {action_mode!r} is the source's own controller, which cannot track a "
-                f"grip-site trajectory; expected one of {', '.join(modes)}"
-            ) from None
+                f"grip-site trajectory; expected one of {', '.join(shared_modes(task))}"
+            )
+        try:
+            tracker = SiteTracker(target.unwrapped.backend, task.controllers["ee_delta"])
+        except ValueError as err:
+            raise DatasetError(f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}") from None
         seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(dataset.episode_indices)]
         rows, kept = [], []
         bar = tqdm(dataset.iterate_episodes(), total=len(seeds), desc=f"convert to {action_mode}", disable=not progress)
         for seed, ep in zip(seeds, bar):
             sites = _recorded_sites(source, ep.infos["state"])
-            episode, row = _convert_episode(target, tracker, ep, seed, sites)
+            try:
+                episode, row = _convert_episode(target, tracker, ep, seed, sites)
+            except ValueError as err:  # a controller that cannot follow a target on this robot
+                raise DatasetError(
+                    f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}"
+                ) from None
             rows.append(row)
             if row.success_converted or keep_failed:
                 kept.append(episode)
@@ -120,17 +127,9 @@ def convert(
                 "success_rate": sum(r.success_converted for r in rows) / len(rows),
                 "dropped_episodes": len(rows) - len(kept),
                 "only_successful": not keep_failed,
-                "versions": versions.installed(),
-                "state": meta.get("state"),
             }
-            store.publish(
-                out,
-                [e.buffer(i) for i, e in enumerate(kept)],
-                target,
-                published,
-                description=f"{path} converted to action_mode {action_mode!r} by tracking its grip-site trajectory",
-                requirements=versions.requirements(published["versions"]),
-            )
+            description = f"{path} converted to action_mode {action_mode!r} by tracking its grip-site trajectory"
+            store.publish(out, kept, target, published, description)
     finally:
         source.close()
         target.close()

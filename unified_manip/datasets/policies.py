@@ -19,15 +19,22 @@ def scripted(env) -> Policy:
     policy = spec.scripted_policy("ee_delta")
     if mode == "ee_delta":
         return policy
-    try:
-        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
-    except ValueError:
-        modes = [m for m, c in spec.controllers.items() if c.controller is not None]
+    if mode not in shared_modes(spec):
         raise DatasetError(
             f"the scripted policy cannot play {spec.id} in action_mode {mode!r} (the source's own controller); "
-            f"expected one of {', '.join(modes)}"
-        ) from None
+            f"expected one of {', '.join(shared_modes(spec))}"
+        )
+    try:
+        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+    except ValueError as err:
+        raise DatasetError(f"the scripted policy cannot play {spec.id} in action_mode {mode!r}: {err}") from None
     return lambda obs: translate(policy(obs))
+
+
+def shared_modes(spec) -> list[str]:
+    """The action modes of the task ``spec`` driven by the shared controllers: those an
+    ``ee_delta`` action or a grip-site target can be translated into."""
+    return [mode for mode, config in spec.controllers.items() if config.controller is not None]
 
 
 class RandomPolicy:

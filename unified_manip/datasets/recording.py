@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from unified_manip.datasets import store, versions
+from unified_manip.datasets import store
 from unified_manip.datasets.episodes import Episode, Policy, play
 from unified_manip.datasets.errors import DatasetError
 
@@ -107,17 +107,9 @@ def collect(
             "success_rate": successes / played,
             "dropped_episodes": played - len(kept),
             "only_successful": only_successful,
-            "versions": versions.installed(),
-            "state": "mj_getState(mjSTATE_FULLPHYSICS), infos/state",
         }
-        store.publish(
-            out,
-            [episode.buffer(i) for i, episode in enumerate(kept)],
-            env,
-            meta,
-            description=f"{len(kept)} episodes of the {policy} policy ({source}) in {env_id} {env_kwargs}",
-            requirements=versions.requirements(meta["versions"]),
-        )
+        description = f"{len(kept)} episodes of the {policy} policy ({source}) in {env_id} {env_kwargs}"
+        store.publish(out, kept, env, meta, description)
     finally:
         env.close()
     return CollectResult(str(out), len(kept), played, successes / played, played - len(kept))

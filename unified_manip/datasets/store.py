@@ -16,10 +16,14 @@ import shutil
 from pathlib import Path
 from typing import Any, Iterator
 
+from unified_manip.datasets import versions
 from unified_manip.datasets.errors import DatasetError
 
 #: The metadata entry that holds what this project records (see :mod:`.recording`).
 KEY = "unified_manip"
+
+#: What ``infos/state`` holds (the backends' ``get_state``).
+STATE = "mj_getState(model, data, state, mjSTATE_FULLPHYSICS)"
 
 _NAME = re.compile(r"^[A-Za-z0-9_.]+(-[A-Za-z0-9_.]+)*-v\d+$")
 
@@ -48,13 +52,16 @@ def _datasets_root(root: Path) -> Iterator[None]:
             os.environ["MINARI_DATASETS_PATH"] = previous
 
 
-def publish(out: Path, buffers: list, env: Any, metadata: dict[str, Any], description: str, requirements: list[str]):
-    """Write ``buffers`` (Minari ``EpisodeBuffer`` s) as the dataset ``out`` with Minari's
-    ``create_dataset_from_buffers`` under a temporary name, add ``metadata`` under
-    :data:`KEY`, then rename it into place (replacing a dataset there). Nothing is left
-    behind if it fails or is interrupted."""
+def publish(out: Path, episodes: list, env: Any, metadata: dict[str, Any], description: str) -> None:
+    """Write ``episodes`` (:class:`~.episodes.Episode` s) as the dataset ``out`` with Minari's
+    ``create_dataset_from_buffers`` under a temporary name, add ``metadata`` (with the
+    package versions and the state's definition) under :data:`KEY`, then rename it into
+    place (replacing a dataset there). Nothing is left behind if it fails or is
+    interrupted."""
     import minari
 
+    metadata = {**metadata, "versions": versions.installed(), "state": STATE}
+    buffers = [episode.buffer(i) for i, episode in enumerate(episodes)]
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp_root = out.parent / f".{out.name}.partial-{os.getpid()}"
@@ -72,7 +79,7 @@ def publish(out: Path, buffers: list, env: Any, metadata: dict[str, Any], descri
                 author_email="https://github.com/unified-manip",
                 code_permalink="https://github.com/unified-manip/unified_manip",
                 description=description,
-                requirements=requirements,
+                requirements=versions.requirements(metadata["versions"]),
             )
             dataset.storage.update_metadata({KEY: metadata})
         if out.exists():

@@ -22,6 +22,7 @@ from unified_manip.datasets import DatasetError
 from unified_manip.datasets.convert import convert
 from unified_manip.datasets.policies import scripted
 from unified_manip.datasets.recording import collect
+from unified_manip.datasets.store import metadata, open_dataset
 from unified_manip.envs.registry import get_task
 
 
@@ -31,20 +32,21 @@ def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, 
     spec = get_task(task_id)
     path = Path(out) / f"{spec.name}-ee_delta-v0"
     start = time.perf_counter()
-    recorded = collect(
-        task_id,
-        {"action_mode": "ee_delta", "reward_type": "sparse"},
-        scripted,
-        "scripted",
-        f"scripted policy of {task_id}",
-        episodes,
-        path,
-        seed=seed,
-        only_successful=True,
-        overwrite=True,
-        progress=False,
-    )
-    row: dict[str, Any] = {"recorded": recorded.as_dict(), "collect_s": time.perf_counter() - start, "modes": {}}
+    if not path.exists():  # a recording of an earlier, interrupted measurement is reused
+        collect(
+            task_id,
+            {"action_mode": "ee_delta", "reward_type": "sparse"},
+            scripted,
+            "scripted",
+            f"scripted policy of {task_id}",
+            episodes,
+            path,
+            seed=seed,
+            only_successful=True,
+            progress=False,
+        )
+    recorded = metadata(open_dataset(path))
+    row: dict[str, Any] = {"recorded": recorded, "collect_s": time.perf_counter() - start, "modes": {}}
     for mode in spec.action_modes:
         start = time.perf_counter()
         try:
@@ -66,8 +68,6 @@ def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, 
 
 
 def _seeds(path: Path) -> list[dict[str, Any]]:
-    from unified_manip.datasets.store import open_dataset
-
     dataset = open_dataset(path)
     return list(dataset.storage.get_episode_metadata(dataset.episode_indices))
 

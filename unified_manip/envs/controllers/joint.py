@@ -51,8 +51,11 @@ class JointTorqueController(_JointController):
 
     def action_toward(self, q_target: np.ndarray) -> np.ndarray:
         """The rig's own position servo as torques: ``kp (q* - q) - kv q'`` (gravity is
-        compensated by the model)."""
+        compensated by the model); ``ValueError`` on a rig without servo gains (robosuite's
+        arms, whose position control is robosuite's own controller)."""
         rig = self.rig
+        if not hasattr(rig, "kp"):
+            raise ValueError("joint_torque here has no servo gains (kp, kv) to turn joint targets into torques")
         torque = rig.kp * (q_target - rig.joint_positions()) - rig.kv * rig.data.qvel[rig.dof_adr]
         return torque / rig.max_torque
 

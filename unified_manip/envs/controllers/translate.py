@@ -55,7 +55,9 @@ class SiteTracker:
         ee: The task's ``ee_delta`` config (IK settings).
 
     Raises:
-        ValueError: the backend's mode is not driven by a shared controller.
+        ValueError: the backend's mode is not driven by a shared controller, or its
+            controller cannot follow a joint target on this robot (``joint_torque`` on
+            robosuite, whose arms have no servo gains here).
     """
 
     def __init__(self, backend: Any, ee: EEDelta) -> None:
@@ -67,6 +69,7 @@ class SiteTracker:
             )
         self.rig, self.control = backend.rig, control
         if not self.site_mode:
+            control.action_toward(self.rig.joint_positions())  # a mode that cannot follow a target fails here
             self.ik = MinkIK(self.rig.model, self.rig, orientation_cost=ee.orientation_cost, iterations=ee.iterations)
 
     def __call__(self, target: np.ndarray, gripper: float | None) -> np.ndarray:
