@@ -26,9 +26,17 @@ from unified_manip.datasets.store import metadata, open_dataset
 from unified_manip.envs.registry import get_task
 
 
-def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, Any]:
+def measure(
+    task_id: str,
+    episodes: int,
+    out: Path,
+    seed: int = 0,
+    modes: list[str] | None = None,
+    translated: bool = True,
+) -> dict[str, Any]:
     """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
-    convert them to every mode of the task; ``{mode: {...}}`` per mode."""
+    convert them to ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
+    ``translated=False`` leaves out the live per-action translation (it doubles the time)."""
     spec = get_task(task_id)
     path = Path(out) / f"{spec.name}-ee_delta-v0"
     start = time.perf_counter()
@@ -47,7 +55,7 @@ def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, 
         )
     recorded = metadata(open_dataset(path))
     row: dict[str, Any] = {"recorded": recorded, "collect_s": time.perf_counter() - start, "modes": {}}
-    for mode in spec.action_modes:
+    for mode in modes or spec.action_modes:
         start = time.perf_counter()
         try:
             report = convert(path, mode, None, progress=False)
@@ -62,7 +70,7 @@ def measure(task_id: str, episodes: int, out: Path, seed: int = 0) -> dict[str, 
             "tracking_error_mean_cm": sum(e.tracking_error_mean_cm for e in eps) / len(eps),
             "tracking_error_max_cm": max(e.tracking_error_max_cm for e in eps),
             "seconds": time.perf_counter() - start,
-            "translated_success": _translated_successes(task_id, mode, seeds),
+            "translated_success": _translated_successes(task_id, mode, seeds) if translated else None,
         }
     return row
 
@@ -101,7 +109,7 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
             lines.append(
                 f"| {task_id} | {mode} | {m['success']}/{m['episodes']} ({share:.2f}) | "
                 f"{m['tracking_error_mean_cm']:.2f} | {m['tracking_error_max_cm']:.2f} | "
-                f"{m['translated_success']}/{m['episodes']} |"
+                f"{'–' if m['translated_success'] is None else m['translated_success']}/{m['episodes']} |"
             )
     return "\n".join(lines)
 
@@ -111,11 +119,16 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--env", required=True, help="comma-separated task IDs")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--out", required=True, help="directory for the recorded datasets")
+    parser.add_argument("--modes", help="comma-separated action modes (default: every mode of each task)")
+    parser.add_argument("--no-translated", action="store_true", help="leave out the live per-action translation")
     parser.add_argument("--json", help="also write the results here")
     args = parser.parse_args(argv)
     results = {}
     for task_id in args.env.split(","):
-        results[task_id] = measure(task_id, args.episodes, Path(args.out))
+        modes = args.modes.split(",") if args.modes else None
+        results[task_id] = measure(
+            task_id, args.episodes, Path(args.out), modes=modes, translated=not args.no_translated
+        )
         if args.json:
             Path(args.json).write_text(json.dumps(results, indent=2))
         print(markdown({task_id: results[task_id]}), flush=True)
