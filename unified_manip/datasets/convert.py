@@ -63,9 +63,11 @@ def convert(
     keep_failed: bool = False,
     overwrite: bool = False,
     progress: bool = True,
+    first: int | None = None,
 ) -> ConvertReport:
-    """Convert the dataset at ``path`` to ``action_mode`` and publish it as ``out``
-    (``None``: measure only). No dataset is written when no episode is kept."""
+    """Convert the dataset at ``path`` (its ``first`` episodes; ``None``: all) to
+    ``action_mode`` and publish it as ``out`` (``None``: measure only). No dataset is
+    written when no episode is kept."""
     import gymnasium as gym
     from tqdm import tqdm
 
@@ -100,9 +102,12 @@ def convert(
             tracker = SiteTracker(target.unwrapped.backend, task.controllers["ee_delta"])
         except ValueError as err:
             raise DatasetError(f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}") from None
-        seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(dataset.episode_indices)]
+        indices = dataset.episode_indices[:first]
+        seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(indices)]
         rows, kept = [], []
-        bar = tqdm(dataset.iterate_episodes(), total=len(seeds), desc=f"convert to {action_mode}", disable=not progress)
+        bar = tqdm(
+            dataset.iterate_episodes(indices), total=len(seeds), desc=f"convert to {action_mode}", disable=not progress
+        )
         for seed, ep in zip(seeds, bar):
             sites = _recorded_sites(source, ep.infos["state"])
             try:

@@ -33,10 +33,13 @@ def measure(
     seed: int = 0,
     modes: list[str] | None = None,
     translated: bool = True,
+    first: int | None = None,
+    on_mode=None,
 ) -> dict[str, Any]:
     """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
     convert them to ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
-    ``translated=False`` leaves out the live per-action translation (it doubles the time)."""
+    ``translated=False`` leaves out the live per-action translation (it doubles the time);
+    ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode."""
     spec = get_task(task_id)
     path = Path(out) / f"{spec.name}-ee_delta-v0"
     start = time.perf_counter()
@@ -58,7 +61,7 @@ def measure(
     for mode in modes or spec.action_modes:
         start = time.perf_counter()
         try:
-            report = convert(path, mode, None, progress=False)
+            report = convert(path, mode, None, progress=False, first=first)
         except DatasetError as err:
             row["modes"][mode] = {"error": str(err)}
             continue
@@ -72,6 +75,8 @@ def measure(
             "seconds": time.perf_counter() - start,
             "translated_success": _translated_successes(task_id, mode, seeds) if translated else None,
         }
+        if on_mode is not None:
+            on_mode(row)
     return row
 
 
@@ -121,17 +126,29 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", required=True, help="directory for the recorded datasets")
     parser.add_argument("--modes", help="comma-separated action modes (default: every mode of each task)")
     parser.add_argument("--no-translated", action="store_true", help="leave out the live per-action translation")
-    parser.add_argument("--json", help="also write the results here")
+    parser.add_argument("--first", type=int, help="convert only the first recorded episodes")
+    parser.add_argument("--json", help="also write the results here (after every mode)")
     args = parser.parse_args(argv)
-    results = {}
-    for task_id in args.env.split(","):
-        modes = args.modes.split(",") if args.modes else None
-        results[task_id] = measure(
-            task_id, args.episodes, Path(args.out), modes=modes, translated=not args.no_translated
-        )
+    results: dict[str, Any] = {}
+
+    def save(row: dict[str, Any]) -> None:
+        results[task_id] = row
         if args.json:
             Path(args.json).write_text(json.dumps(results, indent=2))
-        print(markdown({task_id: results[task_id]}), flush=True)
+
+    for task_id in args.env.split(","):
+        modes = args.modes.split(",") if args.modes else None
+        row = measure(
+            task_id,
+            args.episodes,
+            Path(args.out),
+            modes=modes,
+            translated=not args.no_translated,
+            first=args.first,
+            on_mode=save,
+        )
+        save(row)
+        print(markdown({task_id: row}), flush=True)
     print(markdown(results))
 
 
