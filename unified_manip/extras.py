@@ -15,6 +15,7 @@ EXTRAS: dict[str, tuple[str, ...]] = {
     "bench": ("matplotlib", "pandas", "rliable", "scipy", "tensorboard"),
     "ray": ("ray",),
     "zoo": ("rl_zoo3",),
+    "datasets": ("minari", "h5py"),
 }
 
 

@@ -94,6 +94,12 @@ def cmd_collect(args: argparse.Namespace) -> int:
     if args.policy in BUILT_IN:
         make_policy, source = BUILT_IN[args.policy], f"{args.policy} policy of {args.env}"
     else:
+        from unified_manip.extras import MissingExtra, require
+
+        try:
+            require("train", what="unified-manip collect --policy RUN_DIR")
+        except MissingExtra as err:
+            raise DatasetError(str(err)) from None
         from unified_manip.training.played import run_policy, run_settings
 
         _, config = run_settings(Path(args.policy))

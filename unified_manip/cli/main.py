@@ -171,6 +171,9 @@ COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
     "bench": ("train", "bench"),
     "report": ("bench",),
     "plot": ("bench",),
+    "collect": ("datasets",),  # and train for --policy RUN_DIR (cli.datasets)
+    "replay": ("datasets",),
+    "convert": ("datasets",),
 }
 
 

@@ -32,10 +32,14 @@ class Backend(abc.ABC):
     Attributes:
         action_dim: Length of the ``Box(-1, 1)`` action vector for the chosen mode.
         dt: Simulated seconds per env step.
+        model: The simulator's ``mujoco.MjModel`` (every family runs on MuJoCo).
+        data: Its ``mujoco.MjData``, which the env steps.
     """
 
     action_dim: int
     dt: float
+    model: Any
+    data: Any
 
     @abc.abstractmethod
     def reset(self, np_random: np.random.Generator) -> None:

@@ -81,5 +81,5 @@ class SiteTracker:
         else:
             q_target, _, _ = self.ik.solve(rig.data.qpos, target, rig.ee_rotation(target))
             arm = self.control.action_toward(q_target)
-        action = np.append(arm, gripper) if rig.has_gripper else arm
+        action = arm if gripper is None else np.append(arm, gripper)
         return np.clip(action, -1.0, 1.0).astype(np.float32)
