@@ -15,8 +15,9 @@ from rich.console import Console
 from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int
-from unified_manip.envs.config import ACTION_MODES, REWARD_TYPES
+from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.registry import TASKS
+from unified_manip.envs.rewards import REWARD_TYPES
 
 
 def add_commands(sub) -> None:
