@@ -34,18 +34,18 @@ def run_policy(target: Path, deterministic: bool = True, device: str = "cpu") ->
 
     run_dir, config = run_settings(target)
     try:
+        run, algo_kwargs = rundir.run_settings(run_dir, config)
         model_path = rundir.model_to_evaluate(Path(target), run_dir)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
     algo = get_algo(config["algo"])
-    params = config["hyperparameters"]
 
     def build(env) -> Callable[[dict[str, np.ndarray]], np.ndarray]:
         venv = DummyVecEnv([lambda: env])  # HER models need an env to load
-        model = algo.load(model_path, params.get("policy"), env=venv, device=device)
+        model = algo.load(model_path, algo_kwargs.get("policy"), env=venv, device=device)
         normalizer = None
-        if params.get("normalize"):
-            normalizer = normalized(venv, params, rundir.stats_for(model_path, run_dir), training=False)
+        if run.normalize:
+            normalizer = normalized(venv, run, rundir.stats_for(model_path, run_dir), training=False)
 
         def act(obs):
             action, _ = model.predict(normalizer.normalize_obs(obs) if normalizer else obs, deterministic=deterministic)
