@@ -21,7 +21,7 @@ def test_ci_runs_the_readme_test_command():
 
 
 def test_no_test_can_skip_on_a_missing_package():
-    for path in (ROOT / "tests").glob("*.py"):
+    for path in (ROOT / "tests").rglob("*.py"):
         if path.name == Path(__file__).name:
             continue
         text = path.read_text()

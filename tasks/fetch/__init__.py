@@ -6,7 +6,7 @@ sampling and observation code), so every task is exactly upstream's.
 * ``native`` runs upstream's own mocap control, unchanged: its ``_set_action``,
   ``_mujoco_step`` and ``_step_callback`` on its own model. With the same seed and
   actions it reproduces ``gym.make("Fetch...-v4")`` (observation, sparse reward,
-  ``is_success``); ``tests/test_fetch.py`` checks it.
+  ``is_success``); ``tests/envs/test_fetch.py`` checks it.
 * The other modes run on a modified copy of the model (built once per env with
   ``mujoco.MjSpec``, :mod:`.model`), because the stock arm has no actuators: it follows
   a mocap weld. The copy **removes the weld**, adds force-limited ``general``

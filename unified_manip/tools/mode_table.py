@@ -1,6 +1,6 @@
 """The action-mode table across tasks, generated from the controller configs.
 
-``python -m unified_manip.tools.mode_table`` prints it (``tests/test_controllers.py``
+``python -m unified_manip.tools.mode_table`` prints it (``tests/envs/test_controllers.py``
 checks that the README holds exactly it).
 """
 

@@ -4,8 +4,8 @@ The contract: N gradient steps of the algorithm's own update fit its critic to t
 demonstrations' discounted returns, for TQC with HER and TD3 without; a run takes them
 once, after the demonstrations and with the cloning loss in its actor updates, records
 them (a resumed run does not take them again) and the report says so
-(tests/test_bench.py). Asking for them without demonstrations, or a negative count, is a
-clear error, one line with exit 2 from the CLI (tests/test_pretrain.py, with bc_steps).
+(tests/experiments/test_bench.py). Asking for them without demonstrations, or a negative count, is a
+clear error, one line with exit 2 from the CLI (tests/training/test_pretrain.py, with bc_steps).
 """
 
 from __future__ import annotations

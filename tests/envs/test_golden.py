@@ -1,6 +1,6 @@
 """Behaviour does not change: every ID x action mode x reward type replays its golden
-50-step rollout bit for bit (see ``tests/golden.py``; regenerate with
-``python tests/golden.py --write``).
+50-step rollout bit for bit (see ``tests/envs/golden.py``; regenerate with
+``python tests/envs/golden.py --write``).
 
 The rollouts are played once, all together, in a child process with generic floating
 point (``golden.PORTABLE_ENV``), so the hashes do not depend on the CPU. The tests share
@@ -27,7 +27,7 @@ def played() -> dict[str, dict[str, str]]:
 
 def test_every_registered_case_has_stored_hashes():
     current = {key(*c) for c in ID_MODE_REWARDS}
-    assert sorted(current - set(STORED)) == [], "run: python tests/golden.py --write"
+    assert sorted(current - set(STORED)) == [], "run: python tests/envs/golden.py --write"
     assert sorted(set(STORED) - current) == [], "IDs or modes were removed: bump versions instead"
 
 

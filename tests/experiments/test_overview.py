@@ -12,7 +12,7 @@ from unified_manip.cli import main
 from unified_manip.experiments.figures import curve_band
 from unified_manip.experiments.results import read_results
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BENCHES = [ROOT / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
 
 

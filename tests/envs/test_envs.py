@@ -1,6 +1,6 @@
 """The interface contract, checked on every registered ID x action mode x reward type.
 
-In the style of gymnasium-robotics' ``tests/test_envs.py``: env checkers, seeded
+In the style of gymnasium-robotics' ``tests/envs/test_envs.py``: env checkers, seeded
 determinism with two envs side by side, the ``reward == compute_reward`` invariant
 (batched), pickling, rendering and bad input.
 """

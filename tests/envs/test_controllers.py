@@ -14,7 +14,7 @@ import unified_manip
 from unified_manip.envs.controllers import EEDelta, JointDelta, JointPosition, JointTargetDelta, JointVelocity
 from unified_manip.tools.mode_table import readme_table
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
 
 

@@ -24,7 +24,7 @@ from unified_manip.experiments.report import build_report
 from unified_manip.experiments.results import read_results, write_results
 from unified_manip.experiments.sanity import dense_reward_check
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 TINY = {
     "name": "tiny",

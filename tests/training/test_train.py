@@ -21,7 +21,7 @@ import unified_manip
 from unified_manip.training import checkpoints
 from unified_manip.training.hyperparams import ALGOS, HyperparameterError, resolve
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # Small settings so 300 steps exercise learning, evaluation and checkpoints.
 SMOKE = {

@@ -13,7 +13,7 @@ import imageio.v3 as iio
 
 import unified_manip
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:

@@ -30,7 +30,7 @@ from unified_manip.training.settings import (
 )
 from unified_manip.training.train import train
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = sorted((ROOT / "results").glob("*/results.csv"))
 
 

@@ -16,7 +16,7 @@ from unified_manip.experiments.grid import load_grid
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.hyperparams import ALGOS, load_file, resolve, split_entry
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GPU = torch.cuda.is_available()
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import unified_manip
 from unified_manip.tools import soak
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):

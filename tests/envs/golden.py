@@ -16,11 +16,11 @@ the last bit of any value changes the hash.
 
 Commands (run from the repository root, the virtual environment active)::
 
-    python tests/golden.py                    # compare every case, print those that differ
-    python tests/golden.py --only Lift        # only cases whose key contains "Lift"
-    python tests/golden.py --write            # add cases not stored yet (a new ID or mode);
+    python tests/envs/golden.py                    # compare every case, print those that differ
+    python tests/envs/golden.py --only Lift        # only cases whose key contains "Lift"
+    python tests/envs/golden.py --write            # add cases not stored yet (a new ID or mode);
                                               # a stored case that differs is reported, kept
-    python tests/golden.py --update --only X  # overwrite differing stored cases too
+    python tests/envs/golden.py --update --only X  # overwrite differing stored cases too
 
 ``--update`` is only for a deliberate, documented behaviour change, together with a
 version bump of the ID (the old version keeps its hashes; see the README). Cases of IDs
@@ -100,7 +100,7 @@ def check_portable() -> None:
     if active or core != PORTABLE_ENV["OPENBLAS_CORETYPE"]:
         raise RuntimeError(
             f"golden rollouts need generic floating point: numpy dispatches {active}, OpenBLAS "
-            f"kernel {core!r}; start the process with tests/golden.py's PORTABLE_ENV"
+            f"kernel {core!r}; start the process with tests/envs/golden.py's PORTABLE_ENV"
         )
 
 
@@ -225,7 +225,7 @@ def main(argv: list[str]) -> int:
         current = {key(*c) for c in cases()}
         dropped = sorted(set(stored) - current)
         doc = {
-            "about": "Golden-trajectory hashes: see tests/golden.py for what they cover and how to regenerate them.",
+            "about": "Golden-trajectory hashes: see tests/envs/golden.py for what they cover and how to regenerate them.",
             "steps": STEPS,
             "cases": {k: v for k, v in stored.items() if k in current},
         }
