@@ -324,6 +324,9 @@ def test_committed_grids_are_valid():
     # Recipe grids (one seed, to establish a recipe) load and type-check too.
     recipes = sorted((ROOT / "baselines" / "grids" / "recipes").glob("*.yaml"))
     assert len(recipes) >= 6 and all(load_grid(path).runs for path in recipes)
+    # Pilot grids (seed 0, to set a study's budget) too.
+    pilots = sorted((ROOT / "baselines" / "grids" / "pilots").glob("*.yaml"))
+    assert len(pilots) >= 1 and all(load_grid(path).runs for path in pilots)
 
 
 # ---------------------------------------------------------------------- report
