@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from typing import Any
 
 import mujoco
@@ -16,7 +15,6 @@ from unified_manip.envs.controllers.ik import MinkIK
 from unified_manip.envs.controllers.rig import MujocoRig
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS
 from unified_manip.envs.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
 from unified_manip.envs.tasks.arm4.scene import (
     ASSET,
@@ -76,10 +74,10 @@ class Arm4Backend(Backend):
 
     Args:
         config: The validated env config.
+        controller: The action mode's controller config (resolved by ``env_setup``).
         scene: ``"reach"`` (no cube), ``"push"`` or ``"pick_and_place"``: the model,
             the goal distribution and the observation layout.
         substeps: Physics substeps of 2 ms per env step (10: 50 Hz control).
-        controllers: The action modes, ``{mode: controller config}``.
         min_goal_distance: Push goals are at least this far from the cube at reset, m.
         table_goal_fraction: The share of pick-and-place goals on the table top.
     """
@@ -89,9 +87,9 @@ class Arm4Backend(Backend):
     def __init__(
         self,
         config: EnvConfig,
+        controller: ControllerConfig,
         scene: str,
         substeps: int = SUBSTEPS,
-        controllers: Mapping[str, ControllerConfig] = CONTROLLERS,
         min_goal_distance: float = PUSH_MIN_DISTANCE,
         table_goal_fraction: float = 0.0,
     ) -> None:
@@ -119,7 +117,7 @@ class Arm4Backend(Backend):
             ee_rotation=top_down,
         )
         self._home = _home_qpos(self.model, self.rig)
-        self.control = config.mode_config(controllers).build(self.rig)
+        self.control = controller.build(self.rig)
         self.action_dim = self.control.action_dim
         m = self.model
         self._arm_q = self.rig.qpos_adr

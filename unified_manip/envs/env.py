@@ -9,10 +9,10 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
-from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
+from unified_manip.envs.setup import env_setup
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -21,7 +21,8 @@ class UnifiedManipEnv(GoalEnv):
     Build it with ``gym.make("UnifiedManip/<Task>-v0", **kwargs)``; the task's own
     documentation is in ``env.unwrapped.task.doc`` (and ``unified-manip list --doc``).
 
-    Args:
+    Args (keyword arguments of ``gym.make``, turned into an ``EnvConfig`` by
+    :func:`unified_manip.envs.setup.env_setup`):
         task_id: The registered ID (filled in by the registration).
         action_mode: See :data:`unified_manip.envs.config.ACTION_MODES`.
         reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
@@ -48,40 +49,16 @@ class UnifiedManipEnv(GoalEnv):
 
     metadata = {"render_modes": ["rgb_array", "human"], "render_fps": 25}
 
-    def __init__(
-        self,
-        task_id: str,
-        action_mode: str = "native",
-        reward_type: str = "sparse",
-        terminate_on_success: bool = False,
-        render_mode: str | None = None,
-        render_width: int = 480,
-        render_height: int = 480,
-        reward_config: Any = None,
-        reward_spec: Any = None,
-        controller_options: Any = None,
-        **options: Any,
-    ) -> None:
-        self.task = get_task(task_id)
-        self.config = EnvConfig(
-            action_mode=action_mode,
-            reward_type=reward_type,
-            terminate_on_success=terminate_on_success,
-            render_mode=render_mode,
-            render_width=render_width,
-            render_height=render_height,
-            reward_config=reward_config,
-            reward_spec=reward_spec,
-            options=dict(options),
-            controller_options=controller_options,
-        )
-        self.config.require_supported(task_id, self.task.action_modes)
-        self.config.mode_config(self.task.controllers)  # a bad controller option fails before the simulator loads
+    def __init__(self, task_id: str, **kwargs: Any) -> None:
+        setup = env_setup(task_id, **kwargs)  # a bad option fails here, before the simulator loads
+        self.task = setup.task
+        self.config = setup.config
+        render_mode = self.config.render_mode
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
         self.reward_spec = self.config.reward_design(self.task.shaping)
         self._threshold = self.task.distance_threshold
-        self._backend = self.task.make_backend(self.config)
+        self._backend = setup.build_backend()
 
         # Size the spaces from one reset of the backend with a throwaway generator.
         self._backend.reset(np.random.default_rng(0))
