@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
@@ -13,8 +13,10 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import MinkIK
 from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
+from unified_manip.envs.tasks.arm4 import observations as obs_groups
 from unified_manip.envs.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
 from unified_manip.envs.tasks.arm4.scene import (
     ASSET,
@@ -185,6 +187,12 @@ class Arm4Backend(Backend):
             return np.concatenate((d.qpos[ROBOT_Q], d.qvel[ROBOT_Q], grip, self._goal - grip))
         obj = d.qpos[QPOS_CUBE_POS]
         return np.concatenate((d.qpos, d.qvel, grip, obj - grip, self._goal - obj))
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return obs_groups.REACH_GROUPS if self.scene == "reach" else obs_groups.OBJECT_GROUPS
+
+    def default_observation(self) -> tuple[str, ...]:
+        return obs_groups.REACH_DEFAULT if self.scene == "reach" else obs_groups.OBJECT_DEFAULT
 
     def achieved_goal(self) -> np.ndarray:
         if self.scene == "reach":

@@ -4,7 +4,7 @@ of its model (see the package docs)."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
@@ -14,8 +14,10 @@ from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
 from unified_manip.envs.tasks.contacts import touches_both
+from unified_manip.envs.tasks.fetch import observations as obs_groups
 from unified_manip.envs.tasks.fetch.model import actuated_model
 from unified_manip.envs.tasks.fetch.scene import (
     ARM_ACTUATORS,
@@ -123,6 +125,13 @@ class FetchBackend(UpstreamBackend):
             return obs
         d = self._up.data
         return np.concatenate((obs, d.qpos[self._arm_q], d.qvel[self._arm_v]))
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return obs_groups.OBJECT_GROUPS if self.has_object else obs_groups.REACH_GROUPS
+
+    def default_observation(self) -> tuple[str, ...]:
+        default = obs_groups.OBJECT_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
+        return default + obs_groups.JOINT_MODE_EXTRA if self._joint_obs else default
 
     def reward_state(self) -> tuple[float, float]:
         if not self.has_object:

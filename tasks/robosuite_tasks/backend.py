@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
@@ -13,9 +13,11 @@ from unified_manip.envs.backend import Backend
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import IKJoints
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
 from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
 from unified_manip.envs.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
@@ -63,6 +65,7 @@ class RobosuiteBackend(Backend):
             self.rig = SuiteRig(up, self.joints, self.task.held_rotation)
             self.control = controller.build(self.rig)
             self.action_dim = self.control.action_dim
+        self._groups, self._default = suite_groups(up)
         self._goal = np.zeros(0)
         self._obs: dict[str, np.ndarray] = {}
         self._reward = 0.0
@@ -115,6 +118,12 @@ class RobosuiteBackend(Backend):
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
         return np.concatenate((self._obs["robot0_proprio-state"], self._obs["object-state"]))
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return self._groups
+
+    def default_observation(self) -> tuple[str, ...]:
+        return self._default
 
     def achieved_goal(self) -> np.ndarray:
         return self.task.achieved(self._up).copy()

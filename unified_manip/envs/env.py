@@ -10,6 +10,7 @@ from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
 from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.setup import env_setup
@@ -35,6 +36,11 @@ class UnifiedManipEnv(GoalEnv):
         controller_options: Parameters of the action mode's controller in place of the
             task's, e.g. ``{"band": 0.75}`` for ``joint_position``
             (``unified_manip.envs.config.EnvConfig.mode_config``).
+        observation: A preset (``"default"``, ``"minimal"``, ``"relative"``, ``"full"``) or a
+            list of group names; ``env.unwrapped.observation_layout`` shows the result.
+        observation_distractors: Task-irrelevant random-walk features appended, seeded.
+        observation_noise: Gaussian std added to ``observation`` (one, or per group), seeded.
+        observation_delay: ``observation`` of this many steps earlier (goals stay exact).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -62,7 +68,9 @@ class UnifiedManipEnv(GoalEnv):
 
         # Size the spaces from one reset of the backend with a throwaway generator.
         self._backend.reset(np.random.default_rng(0))
-        obs = self._observation_dict()
+        self._stream = build_stream(self.config, self._backend, self.task.id)
+        obs = self._read()
+        obs["observation"] = self._stream.start(obs["observation"], np.random.default_rng(0))
         n = self._backend.action_dim
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
         self.observation_space = spaces.Dict(
@@ -84,7 +92,8 @@ class UnifiedManipEnv(GoalEnv):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed, options=options)
         self._backend.reset(self.np_random)
-        obs = self._observation_dict()
+        obs = self._read()
+        obs["observation"] = self._stream.start(obs["observation"], self.np_random)
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         self._was_grasped = grasped
@@ -105,7 +114,7 @@ class UnifiedManipEnv(GoalEnv):
         action = self._validate_action(action)
         diagnostics = self._backend.step(action)
         unstable = self._backend.unstable()
-        obs = None if unstable else self._observation_dict()
+        obs = None if unstable else self._read()
         # MuJoCo flags (and resets) a diverged state at the start of its next substep, so
         # the last substep of a step can leave one without a warning: a non-finite
         # observation (it holds the state the goals are read from) is a divergence too.
@@ -113,6 +122,8 @@ class UnifiedManipEnv(GoalEnv):
             unstable = True
         if unstable:  # a diverged simulator has no meaningful state: keep the last finite observation
             obs = {k: v.copy() for k, v in self._last_obs.items()}
+        else:
+            obs["observation"] = self._stream.advance(obs["observation"], self.np_random)
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         if unstable:
@@ -149,6 +160,12 @@ class UnifiedManipEnv(GoalEnv):
 
     def close(self) -> None:
         self._backend.close()
+
+    @property
+    def observation_layout(self) -> dict[str, slice]:
+        """Each group of the observation design (and ``distractors``), in order, with its
+        slice of the ``observation`` vector."""
+        return dict(self._stream.layout)
 
     @property
     def backend(self):
@@ -204,15 +221,18 @@ class UnifiedManipEnv(GoalEnv):
     def __setstate__(self, state: dict[str, Any]) -> None:
         state["task"] = get_task(state["task"])
         self.__dict__.update(state)
+        reattach(self._stream, self._backend)
 
     # ------------------------------------------------------------------ helpers
     def _validate_action(self, action) -> np.ndarray:
         return checked_actions(action, self._action_shape, self._action_rule)
 
-    def _observation_dict(self) -> dict[str, np.ndarray]:
+    def _read(self) -> dict[str, np.ndarray]:
+        """The backend's observation dict now, ``observation`` being the design's groups
+        before the sensor model (``ObservationStream.start`` / ``advance``)."""
         b = self._backend
         obs = {
-            "observation": np.asarray(b.observation(), dtype=np.float32),
+            "observation": self._stream.raw(b),
             "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
             "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
         }
