@@ -133,6 +133,17 @@ def resolve_groups(
     return names
 
 
+def observation_label(observation: str | Sequence[str]) -> str:
+    """A design's name in run names and result tables: the preset, or the groups joined by ``+``."""
+    return observation if isinstance(observation, str) else "+".join(observation)
+
+
+def parse_observation(text: str) -> str | list[str]:
+    """``--observation``'s value: a preset name, or group names separated by commas (a
+    list, as YAML writes it in ``config.yaml``)."""
+    return [n.strip() for n in text.split(",")] if "," in text else text
+
+
 class ObservationStream:
     """One env's ``observation`` vector under a design: reads the groups from the backend,
     appends distractors, adds noise and delays it. All randomness comes from the env's
