@@ -171,7 +171,7 @@ class ObservationStream:
     ) -> None:
         self.names = names
         self.exact = exact
-        self._readers = None if exact else [groups[n].read for n in names]
+        self._readers = [] if exact else [groups[n].read for n in names]
         self.layout: dict[str, slice] = {}
         start = 0
         for name in names:
@@ -236,7 +236,7 @@ class ObservationStream:
         return x.astype(np.float32)
 
     def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "_readers": None}
+        return {**self.__dict__, "_readers": []}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)

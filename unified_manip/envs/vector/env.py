@@ -265,7 +265,9 @@ class NativeVectorEnv(VectorEnv):
             obs["observation"] = np.stack([s.raw(self._batched.backend(i)) for i, s in enumerate(self._streams)])
         return obs
 
-    def _sense(self, obs: dict[str, np.ndarray], starting: Sequence[int], advancing: Sequence[int]) -> None:
+    def _sense(
+        self, obs: dict[str, np.ndarray], starting: np.ndarray | Sequence[int], advancing: np.ndarray | Sequence[int]
+    ) -> None:
         """The sensor model (distractors, noise, delay) on the rows of envs that start an
         episode or advance one, each from its own generator as the single env does; the
         other rows keep the last observation."""
@@ -273,10 +275,16 @@ class NativeVectorEnv(VectorEnv):
             return
         raw, out = obs["observation"], self._last_obs["observation"].copy()
         for i in starting:
-            out[i] = self._streams[i].start(raw[i], self._rngs[i])
+            out[i] = self._streams[i].start(raw[i], self._rng(int(i)))
         for i in advancing:
-            out[i] = self._streams[i].advance(raw[i], self._rngs[i])
+            out[i] = self._streams[i].advance(raw[i], self._rng(int(i)))
         obs["observation"] = out
+
+    def _rng(self, i: int) -> np.random.Generator:
+        rng = self._rngs[i]
+        if rng is None:  # every env is reset (and seeded) before its stream starts
+            raise RuntimeError(f"env {i} has no generator: reset it first")
+        return rng
 
     @property
     def observation_layout(self) -> dict[str, slice]:
