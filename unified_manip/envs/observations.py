@@ -140,8 +140,8 @@ def observation_label(observation: str | Sequence[str]) -> str:
 
 def parse_observation(text: str) -> str | list[str]:
     """``--observation``'s value: a preset name, or group names separated by commas (a
-    list, as YAML writes it in ``config.yaml``)."""
-    return [n.strip() for n in text.split(",")] if "," in text else text
+    list, as YAML writes it in ``config.yaml``; one name that is not a preset is a list of one)."""
+    return text if text in PRESETS else [n.strip() for n in text.split(",")]
 
 
 class ObservationStream:
