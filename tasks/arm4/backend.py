@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
@@ -14,9 +13,10 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import MinkIK
 from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS
+from unified_manip.envs.tasks.arm4 import observations as obs_groups
 from unified_manip.envs.tasks.arm4.goals import PUSH_MIN_DISTANCE, sample_goal, sample_object_xy
 from unified_manip.envs.tasks.arm4.scene import (
     ASSET,
@@ -76,10 +76,10 @@ class Arm4Backend(Backend):
 
     Args:
         config: The validated env config.
+        controller: The action mode's controller config (resolved by ``env_setup``).
         scene: ``"reach"`` (no cube), ``"push"`` or ``"pick_and_place"``: the model,
             the goal distribution and the observation layout.
         substeps: Physics substeps of 2 ms per env step (10: 50 Hz control).
-        controllers: The action modes, ``{mode: controller config}``.
         min_goal_distance: Push goals are at least this far from the cube at reset, m.
         table_goal_fraction: The share of pick-and-place goals on the table top.
     """
@@ -89,9 +89,9 @@ class Arm4Backend(Backend):
     def __init__(
         self,
         config: EnvConfig,
+        controller: ControllerConfig,
         scene: str,
         substeps: int = SUBSTEPS,
-        controllers: Mapping[str, ControllerConfig] = CONTROLLERS,
         min_goal_distance: float = PUSH_MIN_DISTANCE,
         table_goal_fraction: float = 0.0,
     ) -> None:
@@ -119,7 +119,7 @@ class Arm4Backend(Backend):
             ee_rotation=top_down,
         )
         self._home = _home_qpos(self.model, self.rig)
-        self.control = config.mode_config(controllers).build(self.rig)
+        self.control = controller.build(self.rig)
         self.action_dim = self.control.action_dim
         m = self.model
         self._arm_q = self.rig.qpos_adr
@@ -187,6 +187,12 @@ class Arm4Backend(Backend):
             return np.concatenate((d.qpos[ROBOT_Q], d.qvel[ROBOT_Q], grip, self._goal - grip))
         obj = d.qpos[QPOS_CUBE_POS]
         return np.concatenate((d.qpos, d.qvel, grip, obj - grip, self._goal - obj))
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return obs_groups.REACH_GROUPS if self.scene == "reach" else obs_groups.OBJECT_GROUPS
+
+    def default_observation(self) -> tuple[str, ...]:
+        return obs_groups.REACH_DEFAULT if self.scene == "reach" else obs_groups.OBJECT_DEFAULT
 
     def achieved_goal(self) -> np.ndarray:
         if self.scene == "reach":

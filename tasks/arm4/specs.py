@@ -46,7 +46,7 @@ V0: tuple[TaskSpec, ...] = tuple(
 PUSH_V1 = replace(
     V0[1],
     version=1,
-    make_backend=lazy(_BACKEND, scene="push", substeps=20, controllers=CONTROLLERS_25HZ, min_goal_distance=0.0),
+    make_backend=lazy(_BACKEND, scene="push", substeps=20, min_goal_distance=0.0),
     controllers=CONTROLLERS_25HZ,
     max_episode_steps=50,
     doc=PUSH_V1_DOC,

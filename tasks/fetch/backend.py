@@ -4,7 +4,7 @@ of its model (see the package docs)."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
@@ -12,10 +12,12 @@ from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
 from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
 from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
 from unified_manip.envs.tasks.contacts import touches_both
-from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
+from unified_manip.envs.tasks.fetch import observations as obs_groups
 from unified_manip.envs.tasks.fetch.model import actuated_model
 from unified_manip.envs.tasks.fetch.scene import (
     ARM_ACTUATORS,
@@ -49,18 +51,21 @@ class FetchBackend(UpstreamBackend):
 
     Args:
         config: The validated env config.
+        controller: The action mode's controller config (resolved by ``env_setup``).
         upstream_cls: The upstream env class, or its ``"module:Class"`` name.
         has_object: Whether the task has an object (all but Reach).
     """
 
-    def __init__(self, config: EnvConfig, upstream_cls: type | str, has_object: bool) -> None:
+    def __init__(
+        self, config: EnvConfig, controller: ControllerConfig, upstream_cls: type | str, has_object: bool
+    ) -> None:
         super().__init__(config, upstream_cls, "Fetch", SCENE)
         self.has_object = has_object
         self.mode = config.action_mode
         up = self._up
         self._native = self.mode == "native"
         # The joint-space modes observe the arm's joints too (14 entries).
-        self._joint_obs = CONTROLLERS[self.mode].space == "joint"
+        self._joint_obs = controller.space == "joint"
         if not self._native:
             model = actuated_model(up.fullpath, up.initial_qpos, config.render_width, config.render_height)
             up.model, up.data = model, mujoco.MjData(model)
@@ -83,7 +88,7 @@ class FetchBackend(UpstreamBackend):
             )
             rotation = up.data.site_xmat[self.rig.site_id].reshape(3, 3).copy()  # pointing down
             self.rig.ee_rotation = FixedRotation(rotation)
-            self.control = config.mode_config(CONTROLLERS).build(self.rig)
+            self.control = controller.build(self.rig)
             self.action_dim = self.control.action_dim
         else:
             self.action_dim = 4
@@ -120,6 +125,13 @@ class FetchBackend(UpstreamBackend):
             return obs
         d = self._up.data
         return np.concatenate((obs, d.qpos[self._arm_q], d.qvel[self._arm_v]))
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return obs_groups.OBJECT_GROUPS if self.has_object else obs_groups.REACH_GROUPS
+
+    def default_observation(self) -> tuple[str, ...]:
+        default = obs_groups.OBJECT_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
+        return default + obs_groups.JOINT_MODE_EXTRA if self._joint_obs else default
 
     def reward_state(self) -> tuple[float, float]:
         if not self.has_object:

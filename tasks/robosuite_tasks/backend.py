@@ -4,18 +4,20 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import mujoco
 import numpy as np
 
 from unified_manip.envs.backend import Backend
 from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import IKJoints
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
 from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
 from unified_manip.envs.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
@@ -33,10 +35,11 @@ GRASP_CHECK_RADIUS = 0.08
 class RobosuiteBackend(Backend):
     """One robosuite task under one action mode (see the module docstring)."""
 
-    def __init__(self, config: EnvConfig, task: str) -> None:
+    def __init__(self, config: EnvConfig, controller: ControllerConfig, task: str) -> None:
         if config.render_mode == "human":
             raise ValueError("robosuite tasks render with render_mode None or 'rgb_array', not 'human'")
         self.config = config
+        self.controller = controller
         self.task_name = task
         self.options = validate_options(dict(config.options))
         self.task = TASK_DEFS[task]
@@ -60,8 +63,9 @@ class RobosuiteBackend(Backend):
             self.action_dim = up.action_dim
         else:
             self.rig = SuiteRig(up, self.joints, self.task.held_rotation)
-            self.control = config.mode_config(CONTROLLERS).build(self.rig)
+            self.control = controller.build(self.rig)
             self.action_dim = self.control.action_dim
+        self._groups, self._default = suite_groups(up)
         self._goal = np.zeros(0)
         self._obs: dict[str, np.ndarray] = {}
         self._reward = 0.0
@@ -115,6 +119,12 @@ class RobosuiteBackend(Backend):
     def observation(self) -> np.ndarray:
         return np.concatenate((self._obs["robot0_proprio-state"], self._obs["object-state"]))
 
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return self._groups
+
+    def default_observation(self) -> tuple[str, ...]:
+        return self._default
+
     def achieved_goal(self) -> np.ndarray:
         return self.task.achieved(self._up).copy()
 
@@ -149,10 +159,16 @@ class RobosuiteBackend(Backend):
 
     # -------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:
-        return {"config": self.config, "task": self.task_name, "episode": self._episode, "log": list(self._log)}
+        return {
+            "config": self.config,
+            "controller": self.controller,
+            "task": self.task_name,
+            "episode": self._episode,
+            "log": list(self._log),
+        }
 
     def __setstate__(self, state: dict[str, Any]) -> None:
-        self.__init__(state["config"], state["task"])
+        self.__init__(state["config"], state["controller"], state["task"])
         if state["episode"] is not None:
             seed, goal = state["episode"]
             self._reset_upstream(seed)

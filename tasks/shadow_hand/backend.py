@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 from gymnasium_robotics.envs.shadow_dexterous_hand.hand_env import DEFAULT_CAMERA_CONFIG
 
 from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
-from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
+from unified_manip.envs.tasks.shadow_hand import observations as obs_groups
 from unified_manip.envs.tasks.shadow_hand.rig import HandRig
 from unified_manip.envs.tasks.upstream import UpstreamBackend
 
@@ -26,17 +28,20 @@ class HandBackend(UpstreamBackend):
 
     Args:
         config: The validated env config.
+        controller: The action mode's controller config (resolved by ``env_setup``).
         upstream_cls: The upstream env class, or its ``"module:Class"`` name.
         has_object: Whether the task has an object (the block).
     """
 
-    def __init__(self, config: EnvConfig, upstream_cls: type | str, has_object: bool) -> None:
+    def __init__(
+        self, config: EnvConfig, controller: ControllerConfig, upstream_cls: type | str, has_object: bool
+    ) -> None:
         super().__init__(config, upstream_cls, "Shadow Hand", SCENE)
         self.has_object = has_object
         self._native = config.action_mode == "native"
         self.rig = HandRig(self._up.model, self._up.data, self.dt)
         if not self._native:
-            self.control = config.mode_config(CONTROLLERS).build(self.rig)
+            self.control = controller.build(self.rig)
         self.action_dim = self.rig.n
         m = self._up.model
         if has_object:
@@ -60,6 +65,12 @@ class HandBackend(UpstreamBackend):
 
     def after_unpickle(self) -> None:
         self.rig.model, self.rig.data = self._up.model, self._up.data
+
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        return obs_groups.BLOCK_GROUPS if self.has_object else obs_groups.REACH_GROUPS
+
+    def default_observation(self) -> tuple[str, ...]:
+        return obs_groups.BLOCK_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
 
     def reward_state(self) -> tuple[float, float]:
         """Block: (palm-to-block distance, 1 while the block is still on the hand, i.e.

@@ -338,7 +338,7 @@ def diverging_task():
         base,
         name="ArmDiverges",
         family="test",
-        make_backend=lambda config: DivergesOnStep(base.make_backend(config), k=130),
+        make_backend=lambda config, controller: DivergesOnStep(base.make_backend(config, controller), k=130),
     )
     register_task(spec)
     try:

@@ -20,7 +20,10 @@ from unified_manip.extras import MissingExtra, require
 def cmd_list(args: argparse.Namespace) -> int:
     console = Console(width=args.width)
     if args.doc:
+        from unified_manip.envs.observation_docs import observation_groups_doc
+
         console.print(TASKS[args.doc].doc, markup=False, highlight=False)
+        console.print(observation_groups_doc(args.doc), markup=False, highlight=False)
         return 0
     table = Table(title="UnifiedManip tasks")
     for col in ("ID", "family", "action modes", "reward types", "goal dim", "episode steps"):

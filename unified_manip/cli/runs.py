@@ -12,6 +12,7 @@ from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
 from unified_manip.envs.config import ACTION_MODES
+from unified_manip.envs.observations import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
@@ -49,6 +50,12 @@ def add_commands(sub) -> None:
         metavar="KEY=VALUE",
         help="extra env keyword argument, a YAML value (repeatable), e.g. controller_options={band: 0.75}",
     )
+    p.add_argument(
+        "--observation",
+        type=parse_observation,
+        help="observation design: a preset (default, minimal, relative, full) or groups separated by commas "
+        "(see unified-manip list --doc ID); a non-default design is part of the default run directory's name",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
         "--device",
@@ -68,6 +75,14 @@ def add_commands(sub) -> None:
     p.add_argument("--action-mode", choices=ACTION_MODES, help="default: the run's own (a different one is an error)")
     p.add_argument("--reward-type", choices=REWARD_TYPES, help="default: the run's own")
     p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
+    p.add_argument(
+        "--observation-noise",
+        type=float,
+        help="std of Gaussian noise on the observation vector, in its groups' units (robustness; default: the run's)",
+    )
+    p.add_argument(
+        "--observation-delay", type=int, help="observe k steps late (robustness; default: the run's own, usually 0)"
+    )
     p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
     p.add_argument("--json", help="also write the result to this JSON file")
     p.add_argument("--device", choices=DEVICES, default="auto", help="auto (CUDA when torch sees a GPU), cpu or cuda")
@@ -134,7 +149,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         vec=args.vec,
         run_dir=Path(args.run_dir) if args.run_dir else None,
         overrides=tuple(args.set or ()),
-        env_kwargs=dict(args.env_kwarg or ()),
+        env_kwargs={**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})},
         device=args.device,
         restart=args.restart,
     )
@@ -154,6 +169,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
         action_mode=args.action_mode,
         reward_type=args.reward_type,
         seed=args.seed,
+        observation_noise=args.observation_noise,
+        observation_delay=args.observation_delay,
         video=Path(args.video) if args.video else None,
         device=args.device,
     )

@@ -13,9 +13,11 @@ import abc
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Iterator
+from typing import Any, Iterator, Mapping
 
 import numpy as np
+
+from unified_manip.envs.observations import ObservationGroup
 
 
 @dataclass
@@ -69,6 +71,15 @@ class Backend(abc.ABC):
     @abc.abstractmethod
     def observation(self) -> np.ndarray:
         """The flat observation vector (any float dtype; the env casts to float32)."""
+
+    @abc.abstractmethod
+    def observation_groups(self) -> Mapping[str, ObservationGroup]:
+        """The named groups this task can put in the observation vector, in the order
+        the ``"full"`` preset concatenates them (:mod:`unified_manip.envs.observations`)."""
+
+    @abc.abstractmethod
+    def default_observation(self) -> tuple[str, ...]:
+        """The groups whose concatenation is :meth:`observation`, exactly, in order."""
 
     @abc.abstractmethod
     def achieved_goal(self) -> np.ndarray:

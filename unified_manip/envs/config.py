@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
+from unified_manip.envs.observations import validate_count, validate_noise
 from unified_manip.envs.rewards import RewardConfig, RewardSpec, make_reward_spec, validate_reward_type
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
@@ -62,6 +63,15 @@ class EnvConfig:
         controller_options: Parameters of the action mode's controller config that
             replace the family's (e.g. ``{"band": 0.75}`` for ``joint_position``); see
             :meth:`mode_config`.
+        observation: The ``observation`` vector's design: a preset (``"default"``,
+            ``"minimal"``, ``"relative"``, ``"full"``) or a list of group names, concatenated
+            in order (:mod:`unified_manip.envs.observations`).
+        observation_distractors: How many task-irrelevant features (a seeded random walk)
+            to append to ``observation``.
+        observation_noise: Std of the Gaussian noise added to ``observation``: one for
+            every entry, or a mapping of group names to stds (in the groups' units).
+        observation_delay: ``observation`` is the one of this many steps earlier; the
+            first steps of an episode repeat the reset observation. Goals stay exact.
     """
 
     action_mode: str = "native"
@@ -74,6 +84,10 @@ class EnvConfig:
     reward_spec: Any = None
     options: Mapping[str, Any] = field(default_factory=dict)
     controller_options: Mapping[str, Any] = field(default_factory=dict)
+    observation: str | tuple[str, ...] = "default"
+    observation_distractors: int = 0
+    observation_noise: float | Mapping[str, float] = 0.0
+    observation_delay: int = 0
 
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
@@ -101,6 +115,15 @@ class EnvConfig:
             value = getattr(self, name)
             if not isinstance(value, int) or value <= 0:
                 raise ValueError(f"{name} must be a positive int, got {value!r}")
+        if isinstance(self.observation, (list, tuple)):
+            object.__setattr__(self, "observation", tuple(self.observation))
+        elif not isinstance(self.observation, str):
+            raise TypeError(f"observation must be a preset name or a list of group names, got {self.observation!r}")
+        validate_count("observation_distractors", self.observation_distractors)
+        validate_count("observation_delay", self.observation_delay)
+        validate_noise(self.observation_noise)
+        if isinstance(self.observation_noise, Mapping):
+            object.__setattr__(self, "observation_noise", dict(self.observation_noise))
 
     def reward_design(self, shaping: str) -> RewardSpec:
         """The reward design an env with this config uses: :attr:`reward_spec` if given,

@@ -9,10 +9,11 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
-from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
+from unified_manip.envs.setup import env_setup
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -21,7 +22,8 @@ class UnifiedManipEnv(GoalEnv):
     Build it with ``gym.make("UnifiedManip/<Task>-v0", **kwargs)``; the task's own
     documentation is in ``env.unwrapped.task.doc`` (and ``unified-manip list --doc``).
 
-    Args:
+    Args (keyword arguments of ``gym.make``, turned into an ``EnvConfig`` by
+    :func:`unified_manip.envs.setup.env_setup`):
         task_id: The registered ID (filled in by the registration).
         action_mode: See :data:`unified_manip.envs.config.ACTION_MODES`.
         reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
@@ -34,6 +36,11 @@ class UnifiedManipEnv(GoalEnv):
         controller_options: Parameters of the action mode's controller in place of the
             task's, e.g. ``{"band": 0.75}`` for ``joint_position``
             (``unified_manip.envs.config.EnvConfig.mode_config``).
+        observation: A preset (``"default"``, ``"minimal"``, ``"relative"``, ``"full"``) or a
+            list of group names; ``env.unwrapped.observation_layout`` shows the result.
+        observation_distractors: Task-irrelevant random-walk features appended, seeded.
+        observation_noise: Gaussian std added to ``observation`` (one, or per group), seeded.
+        observation_delay: ``observation`` of this many steps earlier (goals stay exact).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -48,44 +55,22 @@ class UnifiedManipEnv(GoalEnv):
 
     metadata = {"render_modes": ["rgb_array", "human"], "render_fps": 25}
 
-    def __init__(
-        self,
-        task_id: str,
-        action_mode: str = "native",
-        reward_type: str = "sparse",
-        terminate_on_success: bool = False,
-        render_mode: str | None = None,
-        render_width: int = 480,
-        render_height: int = 480,
-        reward_config: Any = None,
-        reward_spec: Any = None,
-        controller_options: Any = None,
-        **options: Any,
-    ) -> None:
-        self.task = get_task(task_id)
-        self.config = EnvConfig(
-            action_mode=action_mode,
-            reward_type=reward_type,
-            terminate_on_success=terminate_on_success,
-            render_mode=render_mode,
-            render_width=render_width,
-            render_height=render_height,
-            reward_config=reward_config,
-            reward_spec=reward_spec,
-            options=dict(options),
-            controller_options=controller_options,
-        )
-        self.config.require_supported(task_id, self.task.action_modes)
-        self.config.mode_config(self.task.controllers)  # a bad controller option fails before the simulator loads
+    def __init__(self, task_id: str, **kwargs: Any) -> None:
+        setup = env_setup(task_id, **kwargs)  # a bad option fails here, before the simulator loads
+        self.task = setup.task
+        self.config = setup.config
+        render_mode = self.config.render_mode
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
         self.reward_spec = self.config.reward_design(self.task.shaping)
         self._threshold = self.task.distance_threshold
-        self._backend = self.task.make_backend(self.config)
+        self._backend = setup.build_backend()
 
         # Size the spaces from one reset of the backend with a throwaway generator.
         self._backend.reset(np.random.default_rng(0))
-        obs = self._observation_dict()
+        self._stream = build_stream(self.config, self._backend, self.task.id)
+        obs = self._read()
+        obs["observation"] = self._stream.start(obs["observation"], np.random.default_rng(0))
         n = self._backend.action_dim
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
         self.observation_space = spaces.Dict(
@@ -107,7 +92,8 @@ class UnifiedManipEnv(GoalEnv):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed, options=options)
         self._backend.reset(self.np_random)
-        obs = self._observation_dict()
+        obs = self._read()
+        obs["observation"] = self._stream.start(obs["observation"], self.np_random)
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         self._was_grasped = grasped
@@ -128,7 +114,7 @@ class UnifiedManipEnv(GoalEnv):
         action = self._validate_action(action)
         diagnostics = self._backend.step(action)
         unstable = self._backend.unstable()
-        obs = None if unstable else self._observation_dict()
+        obs = None if unstable else self._read()
         # MuJoCo flags (and resets) a diverged state at the start of its next substep, so
         # the last substep of a step can leave one without a warning: a non-finite
         # observation (it holds the state the goals are read from) is a divergence too.
@@ -136,6 +122,8 @@ class UnifiedManipEnv(GoalEnv):
             unstable = True
         if unstable:  # a diverged simulator has no meaningful state: keep the last finite observation
             obs = {k: v.copy() for k, v in self._last_obs.items()}
+        else:
+            obs["observation"] = self._stream.advance(obs["observation"], self.np_random)
         self._last_obs = obs
         grip_to_object, grasped = self._backend.reward_state()
         if unstable:
@@ -172,6 +160,12 @@ class UnifiedManipEnv(GoalEnv):
 
     def close(self) -> None:
         self._backend.close()
+
+    @property
+    def observation_layout(self) -> dict[str, slice]:
+        """Each group of the observation design (and ``distractors``), in order, with its
+        slice of the ``observation`` vector."""
+        return dict(self._stream.layout)
 
     @property
     def backend(self):
@@ -227,15 +221,18 @@ class UnifiedManipEnv(GoalEnv):
     def __setstate__(self, state: dict[str, Any]) -> None:
         state["task"] = get_task(state["task"])
         self.__dict__.update(state)
+        reattach(self._stream, self._backend)
 
     # ------------------------------------------------------------------ helpers
     def _validate_action(self, action) -> np.ndarray:
         return checked_actions(action, self._action_shape, self._action_rule)
 
-    def _observation_dict(self) -> dict[str, np.ndarray]:
+    def _read(self) -> dict[str, np.ndarray]:
+        """The backend's observation dict now, ``observation`` being the design's groups
+        before the sensor model (``ObservationStream.start`` / ``advance``)."""
         b = self._backend
         obs = {
-            "observation": np.asarray(b.observation(), dtype=np.float32),
+            "observation": self._stream.raw(b),
             "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
             "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
         }

@@ -39,7 +39,8 @@ class TaskSpec:
         family: The simulator family, e.g. ``"arm4"``.
         shaping: The dense rewards' template: ``"reach"`` (no object), ``"push"`` (an
             object, no grasp gate) or ``"grasp"`` (placing gated by the grasp).
-        make_backend: Builds the backend for a validated config.
+        make_backend: Builds the backend from a validated config and the action mode's
+            resolved controller config (``EnvSetup.build_backend``).
         controllers: The action modes this task supports, each with its controller
             config, in the order ``unified-manip list`` shows them (``action_modes``).
         goal_dim: Length of ``achieved_goal`` and ``desired_goal``.
@@ -69,7 +70,7 @@ class TaskSpec:
     name: str
     family: str
     shaping: str
-    make_backend: Callable[[EnvConfig], "Backend"]
+    make_backend: Callable[[EnvConfig, ControllerConfig], "Backend"]
     controllers: Mapping[str, ControllerConfig]
     goal_dim: int
     max_episode_steps: int

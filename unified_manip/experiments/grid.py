@@ -8,11 +8,16 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from unified_manip.envs.config import EnvConfig
+from unified_manip.envs.observations import PRESETS, build_stream, observation_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
+from unified_manip.envs.setup import env_setup
 from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
+from unified_manip.training.request import run_name
 from unified_manip.training.yamlfile import YamlFileError, load_mapping
 
 REQUIRED = ("tasks", "action_modes", "reward_types", "algos", "seeds", "steps")
@@ -26,6 +31,7 @@ OPTIONAL = (
     "only",
     "targets",
     "env_kwargs",
+    "observations",
 )
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 
@@ -45,10 +51,11 @@ class RunSpec:
     overrides: tuple[str, ...]
     n_envs: int | None = None  # None: the hyperparameter file's n_envs, else 1
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # extra gym.make keyword arguments
+    observation: str | tuple[str, ...] = "default"  # the observation design (also in env_kwargs unless default)
 
     @property
     def name(self) -> str:
-        return f"{self.task.split('/')[-1]}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+        return run_name(self.task, self.action_mode, self.reward_type, self.algo, self.seed, self.observation)
 
 
 @dataclass(frozen=True)
@@ -128,6 +135,7 @@ def load_grid(path: Path) -> Grid:
     except TargetError as err:
         raise GridError(str(err)) from None
     env_kwargs = _env_kwargs(path, doc.get("env_kwargs", {}))
+    observations = _observations(path, doc.get("observations", ["default"]))
     only = doc.get("only")
     if only is not None:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
@@ -137,7 +145,8 @@ def load_grid(path: Path) -> Grid:
             if bad:
                 raise GridError(f"{path}: unknown key {bad[0]!r} in only; expected {', '.join(ONLY_KEYS)}")
     runs = []
-    for t, r, a, s in itertools.product(tasks, rewards, algos, seeds):
+    checked: set[tuple[str, str]] = set()
+    for t, r, a, s, o in itertools.product(tasks, rewards, algos, seeds, observations):
         for m in TASKS[t].action_modes if modes_value == "all" else modes:
             combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
             if only is not None and not any(all(combo[k] == v for k, v in e.items()) for e in only):
@@ -150,9 +159,14 @@ def load_grid(path: Path) -> Grid:
                 check_demonstration_settings(t, m, ALGOS[a].off_policy, run)
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
+                if (t, observation_label(o)) not in checked:  # the task's groups (one backend per task)
+                    _check_observation(t, m, o)
+                    checked.add((t, observation_label(o)))
             except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
-            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], env_kwargs))
+            kwargs = env_kwargs if o == "default" else {**env_kwargs, "observation": o}
+            design = o if isinstance(o, str) else tuple(o)
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
     return Grid(name, tuple(runs), doc)
@@ -171,6 +185,32 @@ def _env_kwargs(path: Path, value: Any) -> dict[str, Any]:
     if fixed:
         raise GridError(f"{path}: env_kwargs may not set {fixed[0]!r}; the grid's own keys choose it")
     return dict(value)
+
+
+def _observations(path: Path, value: Any) -> list[str | list[str]]:
+    """A grid's ``observations``: presets or lists of group names, one run each per design."""
+    ok = (
+        isinstance(value, list)
+        and value
+        and all(isinstance(v, str) or (isinstance(v, list) and v and all(isinstance(n, str) for n in v)) for v in value)
+    )
+    if not ok:
+        raise GridError(
+            f"{path}: observations must be a non-empty list of presets ({', '.join(PRESETS)}) or lists of "
+            f"group names, got {value!r}"
+        )
+    return value
+
+
+def _check_observation(task: str, mode: str, observation: Any) -> None:
+    """The env's own check of an observation design on ``task`` (builds one backend)."""
+    setup = env_setup(task, action_mode=mode, observation=observation)
+    backend = setup.build_backend()
+    try:
+        backend.reset(np.random.default_rng(0))
+        build_stream(setup.config, backend, setup.task.id)
+    finally:
+        backend.close()
 
 
 def _check(path: Path, check, values: list) -> None:

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from unified_manip.envs.observations import observation_label
 from unified_manip.training.rundir import CONFIG, read_status
 from unified_manip.training.settings import demonstration_record
 
@@ -33,7 +34,9 @@ RESULT_COLUMNS = (
 #: (episodes, transitions, success of the scripted episodes it started with, and its
 #: demonstration settings under their hyperparameter names), JSON or "". Read back with
 #: every setting under its own name (older records' names are mapped, defaults filled in).
-OPTIONAL_COLUMNS = ("demonstrations",)
+#: ``observation``: the run's observation design (``observation_label``); "" in older
+#: files, which is the default design.
+OPTIONAL_COLUMNS = ("demonstrations", "observation")
 
 
 class ResultsError(ValueError):
@@ -71,6 +74,7 @@ def collect_row(run_dir: Path) -> dict[str, Any] | None:
         "steps_per_s": status["num_timesteps"] / wall if wall and wall == wall else float("nan"),
         "versions": json.dumps(config["versions"], sort_keys=True),
         "demonstrations": _demonstrations(run_dir),
+        "observation": observation_label(config["env_kwargs"].get("observation", "default")),
     }
 
 
@@ -115,6 +119,7 @@ def read_results(path: Path) -> list[dict[str, Any]]:
             r["versions"] = json.loads(r["versions"])
             record = json.loads(r.get("demonstrations") or "null")
             r["demonstrations"] = demonstration_record(record) if record else None
+            r["observation"] = r.get("observation") or "default"
         except (TypeError, ValueError) as err:
             raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
     return rows

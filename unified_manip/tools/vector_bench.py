@@ -109,12 +109,11 @@ def physics_rates(task_id: str, mode: str, n: int, threads: int, steps: int) -> 
     import mujoco
     from mujoco import rollout
 
-    from unified_manip.envs.config import EnvConfig
-    from unified_manip.envs.registry import get_task
+    from unified_manip.envs.setup import env_setup
     from unified_manip.envs.vector.pool import PhysicsPool
 
-    spec = get_task(task_id)
-    backends = [spec.make_backend(EnvConfig(action_mode=mode)) for _ in range(n)]
+    setup = env_setup(task_id, action_mode=mode)
+    backends = [setup.build_backend() for _ in range(n)]
     for i, b in enumerate(backends):
         b.reset(np.random.default_rng(i))
     models, datas = [b.model for b in backends], [b.data for b in backends]

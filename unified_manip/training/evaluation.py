@@ -37,6 +37,8 @@ def evaluate(
     action_mode: str | None = None,
     reward_type: str | None = None,
     seed: int = 123,
+    observation_noise: float | None = None,
+    observation_delay: int | None = None,
     video: Path | None = None,
     video_episodes: int = 2,
     deterministic: bool = True,
@@ -44,7 +46,8 @@ def evaluate(
 ) -> EvalResult:
     """Evaluate a run directory (its best model if any, else its final one) or a model
     zip inside a run directory. The env defaults to the run's own settings; a model
-    cannot be evaluated in an action mode it was not trained in."""
+    cannot be evaluated in an action mode it was not trained in. ``observation_noise`` and
+    ``observation_delay`` replace the run's own, to measure a policy's robustness."""
     import gymnasium as gym
     from scipy.stats import binomtest
 
@@ -76,6 +79,17 @@ def evaluate(
         except ValueError as err:
             raise TrainError(str(err)) from None
         env_kwargs["reward_type"] = reward_type
+    from unified_manip.envs.observations import validate_count, validate_noise
+
+    try:
+        if observation_noise is not None:
+            validate_noise(observation_noise)
+            env_kwargs["observation_noise"] = observation_noise
+        if observation_delay is not None:
+            validate_count("observation_delay", observation_delay)
+            env_kwargs["observation_delay"] = observation_delay
+    except ValueError as err:
+        raise TrainError(f"--{str(err).replace('_', '-')}") from None
     try:
         model_path = rundir.model_to_evaluate(Path(target), run_dir)
     except RunDirectoryError as err:

@@ -7,9 +7,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from unified_manip.envs.observations import observation_label
 from unified_manip.envs.registry import get_task
 from unified_manip.training.devices import DEVICES
 from unified_manip.training.hyperparams import ALGOS
+
+
+def run_name(task: str, action_mode: str, reward_type: str, algo: str, seed: int, observation: Any) -> str:
+    """A run's name: ``<task>__<mode>__<reward>__<algo>[__obs-<design>]__s<seed>``; the default
+    observation design adds nothing, so runs from before designs keep their names."""
+    design = observation_label(observation)
+    obs = "" if design == "default" else f"__obs-{design}"
+    return f"{task.split('/')[-1]}__{action_mode}__{reward_type}__{algo}{obs}__s{seed}"
 
 
 class TrainError(ValueError):
@@ -86,8 +95,8 @@ class TrainRequest:
     def directory(self) -> Path:
         if self.run_dir is not None:
             return Path(self.run_dir)
-        name = self.env.split("/")[-1]
-        return Path("runs") / f"{name}__{self.action_mode}__{self.reward_type}__{self.algo}__s{self.seed}"
+        observation = self.env_kwargs.get("observation", "default")
+        return Path("runs") / run_name(self.env, self.action_mode, self.reward_type, self.algo, self.seed, observation)
 
     def env_config(self) -> dict[str, Any]:
         return {"action_mode": self.action_mode, "reward_type": self.reward_type, **self.env_kwargs}

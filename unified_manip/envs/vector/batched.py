@@ -74,6 +74,10 @@ class BatchedBackend(abc.ABC):
         """``observation``, ``achieved_goal``, ``desired_goal`` (and any extra entries),
         float32 ``(N, ...)`` arrays, exactly as the single env's observation dict."""
 
+    def backend(self, index: int) -> Backend:
+        """Env ``index``'s own backend, holding its current state (to read observation groups)."""
+        return self._backends[index]
+
     def reward_state(self) -> tuple[np.ndarray, np.ndarray]:
         """``(grip_to_object, grasped)`` as float64 ``(N,)`` arrays (``Backend.reward_state``),
         from the subclass's ``_g2o`` and ``_grasped``."""

@@ -20,6 +20,7 @@ from gymnasium.vector.utils import batch_space
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import INFO_KEYS, info_arrays
 from unified_manip.envs.vector import infos as vinfo
@@ -64,7 +65,11 @@ class NativeVectorEnv(VectorEnv):
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched
-        obs = batched.observations()
+        self._streams = [build_stream(config, batched.backend(i), self._task_id) for i in range(n)]
+        self._exact = self._streams[0].exact
+        obs = self._raw(batched.observations())
+        throwaway = np.random.default_rng(0)
+        obs["observation"] = np.stack([s.start(obs["observation"][i], throwaway) for i, s in enumerate(self._streams)])
         self.single_observation_space = spaces.Dict(
             {
                 key: spaces.Box(-np.inf, np.inf, shape=v.shape[1:], dtype=np.float32)
@@ -147,10 +152,11 @@ class NativeVectorEnv(VectorEnv):
         reset_extra: dict[str, np.ndarray] = {}
         for i in np.flatnonzero(resetting):
             reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
-        obs = self._batched.observations()
+        obs = self._raw(self._batched.observations())
         # MuJoCo flags (and resets) a diverged state only at the start of its next substep,
         # so a non-finite observation is a divergence too (as in the single env).
         unstable = (self._batched.unstable() | ~np.isfinite(obs["observation"].sum(axis=1))) & stepping
+        self._sense(obs, np.flatnonzero(resetting), np.flatnonzero(stepping & ~unstable))
         # A diverged simulator has no meaningful state: keep the last finite observation.
         if unstable.any():
             for key, value in obs.items():
@@ -192,7 +198,8 @@ class NativeVectorEnv(VectorEnv):
             info["final_obs"], info["_final_obs"] = vinfo.objects(final, n), done.copy()
             for i in np.flatnonzero(done):
                 reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
-            fresh = self._batched.observations()
+            fresh = self._raw(self._batched.observations())
+            self._sense(fresh, np.flatnonzero(done), ())
             for key, value in obs.items():
                 value[done] = fresh[key][done]
             g2o, grasped = self._batched.reward_state()
@@ -244,11 +251,50 @@ class NativeVectorEnv(VectorEnv):
 
     def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
         """The backend's observations where ``mask``, the last ones elsewhere."""
-        obs = self._batched.observations()
+        obs = self._raw(self._batched.observations())
+        self._sense(obs, np.flatnonzero(mask), ())
         for key, value in obs.items():
             value[~mask] = self._last_obs[key][~mask]
             self._last_obs[key] = value.copy()
         return obs
+
+    def _raw(self, obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """``obs`` with ``observation`` holding the design's groups of every env, before
+        the sensor model (the batched backend's own vector where the design is the default)."""
+        if not self._exact:
+            obs["observation"] = np.stack([s.raw(self._batched.backend(i)) for i, s in enumerate(self._streams)])
+        return obs
+
+    def _sense(
+        self, obs: dict[str, np.ndarray], starting: np.ndarray | Sequence[int], advancing: np.ndarray | Sequence[int]
+    ) -> None:
+        """The sensor model (distractors, noise, delay) on the rows of envs that start an
+        episode or advance one, each from its own generator as the single env does; the
+        other rows keep the last observation."""
+        if self._streams[0].passthrough:
+            return
+        raw, out = obs["observation"], self._last_obs["observation"].copy()
+        for i in starting:
+            out[i] = self._streams[i].start(raw[i], self._rng(int(i)))
+        for i in advancing:
+            out[i] = self._streams[i].advance(raw[i], self._rng(int(i)))
+        obs["observation"] = out
+
+    def _rng(self, i: int) -> np.random.Generator:
+        rng = self._rngs[i]
+        if rng is None:  # every env is reset (and seeded) before its stream starts
+            raise RuntimeError(f"env {i} has no generator: reset it first")
+        return rng
+
+    @property
+    def observation_layout(self) -> dict[str, slice]:
+        """Each group of the observation design, in order, with its slice of ``observation``."""
+        return dict(self._streams[0].layout)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        for i, stream in enumerate(self._streams):
+            reattach(stream, self._batched.backend(i))
 
     def _reset_info(self, obs, g2o, grasped, extra) -> dict[str, Any]:
         n = self.num_envs

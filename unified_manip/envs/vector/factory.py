@@ -14,8 +14,8 @@ from typing import Any
 
 from gymnasium.vector import AutoresetMode, SyncVectorEnv, VectorEnv
 
-from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.registry import get_task
+from unified_manip.envs.setup import env_setup
 from unified_manip.envs.vector.pool import default_num_threads
 
 #: Family -> ``"module:Class"`` of its batched backend, built as
@@ -113,27 +113,9 @@ def make_vector_env(
         return SyncVectorEnv([make_one] * num_envs, autoreset_mode=autoreset_mode)
     from unified_manip.envs.vector.env import NativeVectorEnv
 
-    options = dict(env_kwargs)
-    config = EnvConfig(
-        **{
-            k: options.pop(k)
-            for k in (
-                "action_mode",
-                "reward_type",
-                "terminate_on_success",
-                "render_mode",
-                "render_width",
-                "render_height",
-                "controller_options",
-            )
-            if k in options
-        },
-        options=options,
-    )
-    config.require_supported(task_id, spec.action_modes)
-    config.mode_config(spec.controllers)
+    setup = env_setup(task_id, **env_kwargs)
     module, name = BATCHED[spec.family].split(":")
     batched_cls = getattr(importlib.import_module(module), name)
-    backends = [spec.make_backend(config) for _ in range(num_envs)]
-    batched = batched_cls(backends, config.action_mode, num_threads)
-    return NativeVectorEnv(task_id, batched, config, max_episode_steps, autoreset_mode)
+    backends = [setup.build_backend() for _ in range(num_envs)]
+    batched = batched_cls(backends, setup.config.action_mode, num_threads)
+    return NativeVectorEnv(task_id, batched, setup.config, max_episode_steps, autoreset_mode)

@@ -1,0 +1,57 @@
+"""robosuite's observation groups: its own observables, one group each, plus the shared
+``object_rel`` and ``goal_rel``; the default vector is robosuite's ``robot0_proprio-state``
+then ``object-state``, i.e. those observables in robosuite's order."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from unified_manip.envs.observations import ObservationGroup as G
+from unified_manip.envs.observations import goal_rel
+
+#: robosuite's proprioceptive observables (without the ``robot0_`` prefix): group name,
+#: units, kind.
+PROPRIO: dict[str, tuple[str, str, str]] = {
+    "joint_pos": ("joint_pos", "rad", "state"),
+    "joint_pos_cos": ("joint_pos_cos", "cos of the joint angles", "state"),
+    "joint_pos_sin": ("joint_pos_sin", "sin of the joint angles", "state"),
+    "joint_vel": ("joint_vel", "rad/s", "velocity"),
+    "joint_acc": ("joint_acc", "rad/s^2", "velocity"),
+    "eef_pos": ("ee_pos", "m (end effector, world)", "state"),
+    "eef_quat": ("ee_quat", "quaternion (x, y, z, w)", "state"),
+    "eef_quat_site": ("ee_quat_site", "quaternion (x, y, z, w) of the grip site", "state"),
+    "gripper_qpos": ("gripper", "m (finger joint positions)", "state"),
+    "gripper_qvel": ("gripper_vel", "m/s (finger joint velocities)", "velocity"),
+}
+PREFIX = "robot0_"
+MODALITIES = ("robot0_proprio", "object")
+
+
+def _object_group(key: str) -> G:
+    kind = "relative" if "_to_" in key else "state"
+    units = "quaternion (x, y, z, w)" if key.endswith("_quat") else "rad" if key.endswith("qpos") else "m"
+    return G(units, lambda b: b._obs[key], kind)
+
+
+def _object_rel(b) -> np.ndarray:
+    return b.task.object_pos(b._up) - b.data.site_xpos[b._grip_site]
+
+
+def suite_groups(up: Any) -> tuple[dict[str, G], tuple[str, ...]]:
+    """``(groups, default)`` of a robosuite env: each active proprio and object observable
+    in robosuite's order (the default vector), then ``object_rel`` and ``goal_rel``."""
+    groups: dict[str, G] = {}
+    for key, obs in up._observables.items():
+        if not (obs.is_enabled() and obs.is_active()) or obs.modality not in MODALITIES:
+            continue
+        if obs.modality == "robot0_proprio":
+            name, units, kind = PROPRIO[key.removeprefix(PREFIX)]
+            groups[name] = G(units, lambda b, k=key: b._obs[k], kind)
+        else:
+            groups[key] = _object_group(key)
+    default = tuple(groups)
+    groups["object_rel"] = G("m (object - grip site)", _object_rel, "relative")
+    groups["goal_rel"] = G("goal units (goal - achieved goal)", goal_rel, "relative")
+    return groups, default
