@@ -17,7 +17,7 @@ from unified_manip.experiments.grid import GridError, load_grid
 from unified_manip.experiments.results import collect_row
 from unified_manip.training.request import TrainRequest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 REACH = "UnifiedManip/Arm4Reach-v0"
 
 
