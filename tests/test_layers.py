@@ -19,7 +19,7 @@ def test_layers_import_only_downwards_and_nothing_is_circular():
         timeout=300,
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert "Layers: cli > tools > experiments > training > envs KEPT" in proc.stdout
+    assert "Layers: cli > tools > experiments > training > datasets > envs KEPT" in proc.stdout
     assert "No import cycles between sibling modules KEPT" in proc.stdout
     assert "0 broken" in proc.stdout
 
