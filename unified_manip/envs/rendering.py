@@ -116,14 +116,3 @@ class Renderer:
 
     def __getstate__(self) -> dict[str, Any]:
         return {**self.__dict__, "_renderer": None, "_viewer": None}
-
-
-def LazyRenderer(
-    mode: str | None,
-    width: int,
-    height: int,
-    camera_name: str | None = None,  # noqa: N802
-    camera_config: dict[str, Any] | None = None,
-) -> Renderer:
-    """The renderer under its old name and arguments."""
-    return Renderer(mode, width, height, SceneOptions(camera=camera_name, free_camera=camera_config))
