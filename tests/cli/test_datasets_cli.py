@@ -215,7 +215,7 @@ def test_collect_plays_a_trained_run_as_eval_does(tmp_path, capsys):
 
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.training.hyperparams import get_algo
+    from unified_manip.training.algorithms import get_algo
 
     env = dataset.recover_environment()
     model = get_algo("sac_her").load(run / "best" / "best_model.zip", env=DummyVecEnv([lambda: env]))  # as eval

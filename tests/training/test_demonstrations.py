@@ -297,7 +297,7 @@ def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controll
     ],
 )
 def test_runs_that_cannot_take_demonstrations_are_refused(algo, task_id, mode, episodes, message):
-    from unified_manip.training.hyperparams import get_algo
+    from unified_manip.training.algorithms import get_algo
 
     with pytest.raises(DemonstrationError) as err:
         check(task_id, mode, get_algo(algo).off_policy, episodes)

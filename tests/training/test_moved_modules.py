@@ -12,7 +12,7 @@ import gymnasium as gym
 import pytest
 
 from unified_manip.training import crossq, replay_buffers
-from unified_manip.training.hyperparams import ALGOS
+from unified_manip.training.algorithms import ALGOS
 
 OLD = "unified_manip.crossq"
 

@@ -13,8 +13,9 @@ import yaml
 
 import unified_manip
 from unified_manip.experiments.grid import load_grid
+from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DeviceError, resolve_device
-from unified_manip.training.hyperparams import ALGOS, load_file, resolve, split_entry
+from unified_manip.training.hyperparams import load_file, resolve, split_entry
 
 ROOT = Path(__file__).resolve().parents[2]
 GPU = torch.cuda.is_available()

@@ -19,7 +19,8 @@ import yaml
 
 import unified_manip
 from unified_manip.training import checkpoints
-from unified_manip.training.hyperparams import ALGOS, HyperparameterError, resolve
+from unified_manip.training.algorithms import ALGOS
+from unified_manip.training.hyperparams import HyperparameterError, resolve
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -379,8 +380,9 @@ def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
 def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
     """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
     task without one), so ``train --algo ALGO`` works with the defaults on every ID x mode."""
+    from unified_manip.training.algorithms import get_algo
     from unified_manip.training.demonstrations import check
-    from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve_run
+    from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 
     for task_id, spec in unified_manip.TASKS.items():
         for mode in spec.action_modes:

@@ -16,8 +16,8 @@ from unified_manip.envs.observations import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
+from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DEVICES
-from unified_manip.training.hyperparams import ALGOS
 
 
 def add_commands(sub) -> None:

@@ -15,7 +15,8 @@ from unified_manip.envs.observations import PRESETS, build_stream, observation_l
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.envs.setup import env_setup
-from unified_manip.training.hyperparams import ALGOS, check_her_warmup, resolve_run
+from unified_manip.training.algorithms import ALGOS
+from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
 from unified_manip.training.request import run_name
 from unified_manip.training.yamlfile import YamlFileError, load_mapping

@@ -27,7 +27,8 @@ from pathlib import Path
 
 
 def _model(task: str, buffer_size: int, steps: int):
-    from unified_manip.training.hyperparams import get_algo, resolve_run
+    from unified_manip.training.algorithms import get_algo
+    from unified_manip.training.hyperparams import resolve_run
     from unified_manip.training.run_envs import make_vec_env
     from unified_manip.training.run_envs import model_kwargs as _model_kwargs
     from unified_manip.training.run_envs import normalized as _normalized

@@ -126,7 +126,8 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.training.hyperparams import get_algo, resolve_run
+    from unified_manip.training.algorithms import get_algo
+    from unified_manip.training.hyperparams import resolve_run
     from unified_manip.training.run_envs import model_kwargs as _model_kwargs
     from unified_manip.training.run_envs import normalized as _normalized
 

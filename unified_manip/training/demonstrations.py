@@ -32,7 +32,7 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> No
     and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
     can be translated into)."""
     from unified_manip.envs.registry import get_task
-    from unified_manip.training.hyperparams import ALGOS
+    from unified_manip.training.algorithms import ALGOS
 
     if episodes < 0:
         raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")

@@ -11,8 +11,8 @@ import numpy as np
 
 from unified_manip.envs.registry import get_task
 from unified_manip.training import rundir
+from unified_manip.training.algorithms import get_algo
 from unified_manip.training.devices import DeviceError, resolve_device
-from unified_manip.training.hyperparams import get_algo
 from unified_manip.training.request import TrainError
 from unified_manip.training.rundir import RunDirectoryError
 

@@ -29,7 +29,7 @@ def run_policy(target: Path, deterministic: bool = True, device: str = "cpu") ->
     observation normalisation; ``deterministic`` plays the policy's mean action."""
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from unified_manip.training.hyperparams import get_algo
+    from unified_manip.training.algorithms import get_algo
     from unified_manip.training.run_envs import normalized
 
     run_dir, config = run_settings(target)

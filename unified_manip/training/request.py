@@ -9,8 +9,8 @@ from typing import Any
 
 from unified_manip.envs.observations import observation_label
 from unified_manip.envs.registry import get_task
+from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DEVICES
-from unified_manip.training.hyperparams import ALGOS
 
 
 def run_name(task: str, action_mode: str, reward_type: str, algo: str, seed: int, observation: Any) -> str:

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.training.hyperparams import get_algo
+from unified_manip.training.algorithms import get_algo
 from unified_manip.training.request import TrainError, TrainRequest
 from unified_manip.training.settings import RunConfig
 

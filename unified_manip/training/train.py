@@ -23,9 +23,10 @@ import yaml
 
 from unified_manip.envs.registry import get_task
 from unified_manip.training import checkpoints, rundir
+from unified_manip.training.algorithms import get_algo
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
-from unified_manip.training.hyperparams import check_her_warmup, get_algo, resolve_run
+from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.request import TrainError, TrainRequest
 from unified_manip.training.run_envs import make_vec_env
 from unified_manip.training.run_envs import model_kwargs as _model_kwargs
