@@ -56,6 +56,9 @@ def test_make_loads_only_its_family_simulator():
     assert _python(code).splitlines() == ["[]", "True"]
 
 
+PIP = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
+
+
 def _copy_source(dest: Path) -> None:
     """What the wheel is built from: the working tree's package sources, without results."""
     for name in ("pyproject.toml", "README.md"):
@@ -65,19 +68,26 @@ def _copy_source(dest: Path) -> None:
         shutil.copytree(ROOT / name, dest / name, ignore=ignore)
 
 
-def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_path):
-    src, dist, venv, work = (tmp_path / d for d in ("src", "dist", "venv", "work"))
-    src.mkdir()
-    work.mkdir()
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> Path:
+    """The wheel built from the working tree's sources, once for this module's tests."""
+    src, dist = tmp_path_factory.mktemp("src"), tmp_path_factory.mktemp("dist")
     _copy_source(src)
-    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
     subprocess.run(
-        [*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
+        [*PIP, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
         check=True,
         capture_output=True,
         timeout=300,
     )
-    (wheel,) = dist.glob("unified_manip-*.whl")
+    (built,) = dist.glob("unified_manip-*.whl")
+    return built
+
+
+@pytest.mark.slow
+@pytest.mark.xdist_group("wheel")  # one worker builds the wheel for both
+def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel, tmp_path):
+    venv, work = tmp_path / "venv", tmp_path / "work"
+    work.mkdir()
     # A fresh venv that sees this venv's third-party packages (no download) through a
     # .pth line. Only a site directory's own .pth files run, so this venv's editable
     # install of the checkout stays invisible there.
@@ -87,7 +97,7 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
     deps = [p for p in sys.path if p.endswith("site-packages")]  # this venv's and any it chains to
     Path(site, "_checkout_deps.pth").write_text("\n".join(deps) + "\n")
     subprocess.run(
-        [*pip, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
+        [*PIP, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
         check=True,
         capture_output=True,
         timeout=300,
@@ -135,21 +145,12 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(tmp_pa
 
 
 @pytest.mark.slow
-def test_the_base_install_is_the_env_library_alone(tmp_path):
+@pytest.mark.xdist_group("wheel")
+def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     """``pip install unified_manip`` with no extras: every ID steps, torch, SB3 and Ray are
     absent, and a command that needs an extra says which in one line."""
-    src, dist, venv, work = (tmp_path / d for d in ("src", "dist", "venv", "work"))
-    src.mkdir()
+    venv, work = tmp_path / "venv", tmp_path / "work"
     work.mkdir()
-    _copy_source(src)
-    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
-    subprocess.run(
-        [*pip, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
-        check=True,
-        capture_output=True,
-        timeout=300,
-    )
-    (wheel,) = dist.glob("unified_manip-*.whl")
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=120)
     python = str(venv / "bin" / "python")
     proc = subprocess.run(
