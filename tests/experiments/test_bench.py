@@ -329,6 +329,21 @@ def test_committed_grids_are_valid():
     assert len(pilots) >= 1 and all(load_grid(path).runs for path in pilots)
 
 
+def test_the_action_space_pilot_grid_loads_with_the_runs_it_names():
+    """Issue 40's budget pilot (once ``baselines/grids/action_spaces_families_pilot.yaml``):
+    seed 0 of ee_delta and joint_delta, 150k steps on Fetch and 100k on Lift, with the cells
+    already committed elsewhere left out by its ``only`` list."""
+    grid = load_grid(ROOT / "baselines" / "grids" / "pilots" / "action_spaces_families.yaml")
+    assert grid.name == "action_spaces_families_pilot"
+    runs = {(r.task.split("/")[-1], r.action_mode, r.seed, r.steps, r.algo, r.reward_type) for r in grid.runs}
+    assert runs == {
+        ("FetchPickAndPlace-v0", "ee_delta", 0, 150_000, "tqc_her", "sparse"),
+        ("FetchPickAndPlace-v0", "joint_delta", 0, 150_000, "tqc_her", "sparse"),
+        ("Lift-v0", "joint_delta", 0, 100_000, "tqc_her", "sparse"),
+    }
+    assert all(r.n_envs == 8 and "demonstrations=100" in r.overrides for r in grid.runs)
+
+
 # ---------------------------------------------------------------------- report
 def _fixture_rows() -> list[dict]:
     versions = json.dumps({"mujoco": "3.9.0", "stable-baselines3": "2.9.2"})

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from unified_manip.experiments.aggregate_report import aggregate_section
 from unified_manip.experiments.figures import plot_final, plot_task
 from unified_manip.experiments.results import read_results
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, probability_of_improvement, seed_interval
@@ -172,6 +173,8 @@ def build_report(
                 continue
             lines += [f"**{task.split('/')[-1]}**, {algo}, {reward} reward:", ""]
             lines += _ranking_table(["action mode"], {(mode,): vals for mode, vals in modes.items()})
+
+    lines += aggregate_section(rows, out)
 
     configs_by_task = {t: g for t, g in by_task.items() if len({m for _, m, _ in g}) == 1 and len(g) > 1}
     if configs_by_task:
