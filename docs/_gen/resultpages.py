@@ -87,15 +87,17 @@ def targets_table(path: Path) -> str:
 
 
 def figures(path: Path, name: str, depth: int) -> str:
-    """Markdown embedding the report's figures: success against steps for each task, and
-    the training episodes' success and return in a collapsed block."""
+    """Markdown embedding the report's figures: success against steps for each task, final
+    success per setting, the cross-task aggregates where the report has them, and the
+    training episodes' success and return in a collapsed block."""
     report = path / "report"
     up = "../" * depth
     success = sorted(report.glob("*_success.png"))
     training = sorted(report.glob("*_training.png"))
     final = sorted(report.glob("*_final.png"))
+    aggregates = sorted(report.glob("aggregates_*.png"))
     out = []
-    for png in success + final:
+    for png in success + final + aggregates:
         out += [f"![{png.stem}]({up}{ASSETS}/{name}/{png.name})", ""]
     if training:
         out += ['??? note "Training episodes: success and return against steps"', ""]
