@@ -99,7 +99,7 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
     for level, label in _target_lines(targets):
         ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=label)
     band = interval_label(len(runs) for runs in groups.values())
-    ax.set_title(f"{task}: evaluation success rate (mean over seeds, shaded: {band})", fontsize=9)
+    ax.set_title(f"{task}: evaluation success rate\n(mean over seeds, shaded: {band})", fontsize=9)
     ax.set_xlabel("environment steps")
     ax.set_ylabel("success rate")
     ax.set_ylim(-0.02, 1.02)
