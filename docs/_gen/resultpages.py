@@ -95,7 +95,8 @@ def figures(path: Path, name: str, depth: int) -> str:
     success = sorted(report.glob("*_success.png"))
     training = sorted(report.glob("*_training.png"))
     final = sorted(report.glob("*_final.png"))
-    aggregates = sorted(report.glob("aggregates_*.png"))
+    panels = ("iqm", "profile", "improvement")  # the report's order
+    aggregates = sorted(report.glob("aggregates_*.png"), key=lambda p: (p.stem.rsplit("_", 1)[0], _rank(p, panels)))
     out = []
     for png in success + final + aggregates:
         out += [f"![{png.stem}]({up}{ASSETS}/{name}/{png.name})", ""]
@@ -103,6 +104,11 @@ def figures(path: Path, name: str, depth: int) -> str:
         out += ['??? note "Training episodes: success and return against steps"', ""]
         out += [f"    ![{png.stem}]({up}{ASSETS}/{name}/{png.name})\n" for png in training]
     return "\n".join(out)
+
+
+def _rank(png: Path, panels: tuple[str, ...]) -> int:
+    kind = png.stem.rsplit("_", 1)[-1]
+    return panels.index(kind) if kind in panels else len(panels)
 
 
 def command(path: Path) -> str:
