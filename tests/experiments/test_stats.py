@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from unified_manip.experiments.figures import curve_band, interval_label
 from unified_manip.experiments.stats import iqm_with_ci, seed_interval, seeded_global_numpy
 
 
@@ -46,3 +47,14 @@ def test_seeding_rliables_generator_leaves_numpys_global_state_as_it_was():
     with seeded_global_numpy(0):
         np.random.rand(10)
     assert np.random.rand() == expected
+
+
+def test_figures_band_is_the_range_under_five_seeds_and_say_which_they_draw():
+    three = [{"curve": [[10, v]]} for v in (0.0, 0.0, 1.0)]
+    five = [{"curve": [[10, v]]} for v in (0.0, 0.0, 0.0, 0.0, 1.0)]
+    assert [x.tolist() for x in curve_band(three)[2:]] == [[0.0], [1.0]]  # min and max
+    assert [x.tolist() for x in curve_band(five)[2:]] == [[0.0], [0.6]]  # the bootstrap CI, as above
+    assert interval_label([3, 3, 1]) == "range of the seeds"
+    assert interval_label([5, 8]) == "95% bootstrap CI"
+    assert interval_label([3, 5]) == "range of the seeds where n < 5, 95% bootstrap CI where n ≥ 5"
+    assert interval_label([1, 1]) == "none, one seed each"
