@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from unified_manip.experiments.results import read_results
-from unified_manip.experiments.stats import bootstrap_ci
+from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 
 #: Where figures of ``results/<name>/report/`` are served, inside the site.
@@ -44,22 +44,23 @@ def _demos(row) -> str:
 
 def final_table(paths: list[Path]) -> str:
     """Markdown: one row per setting (task, mode, reward, algorithm, demonstrations) of
-    the given ``results.csv`` files, with the mean final success over seeds, its 95%
-    bootstrap interval (:func:`bootstrap_ci`, as in the report) and each seed's value."""
+    the given ``results.csv`` files, with the mean final success over seeds, its interval
+    (:func:`seed_interval`, as in the report: the seeds' range below 5 seeds, the 95%
+    bootstrap CI from 5) and each seed's value."""
     groups = defaultdict(list)
     for path in paths:
         for r in read_results(path):
             groups[(r["task"], r["action_mode"], r["reward_type"], r["algo"], _demos(r), r["steps"])].append(r)
     rows = [
-        "| task | mode | reward | algo | demonstrations | budget | seeds | final success [95% CI] | per seed "
+        "| task | mode | reward | algo | demonstrations | budget | seeds | final success [interval] | per seed "
         "| wall time per run | steps/s |",
         "|---|---|---|---|---|---:|---:|---|---|---:|---:|",
     ]
     for (task, mode, reward, algo, demos, steps), runs in sorted(groups.items()):
         runs.sort(key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
-        lo, hi = bootstrap_ci(finals)
-        interval = f" [{lo:.2f}, {hi:.2f}]" if lo == lo else ""
+        interval = seed_interval(finals).text()
+        interval = f" {interval}" if interval else ""
         seeds = ", ".join(f"{f:.2f} (s{r['seed']})" for f, r in zip(finals, runs))
         wall = float(np.median([r["wall_time_s"] for r in runs])) / 3600
         rate = float(np.median([r["steps_per_s"] for r in runs]))
@@ -71,8 +72,9 @@ def final_table(paths: list[Path]) -> str:
         rows
         + [
             "",
-            "Final success: the last evaluation of each run; the interval is the 95% "
-            "percentile bootstrap over seeds. Wall time and steps/s: medians over seeds.",
+            "Final success: the last evaluation of each run; the interval is the range (min–max) of the "
+            f"seeds with fewer than {MIN_SEEDS_FOR_CI} seeds, the 95% percentile bootstrap of the mean from "
+            f"{MIN_SEEDS_FOR_CI} on. Wall time and steps/s: medians over seeds.",
         ]
     )
 
@@ -81,24 +83,32 @@ def targets_table(path: Path) -> str:
     """The report's benchmark table (targets, steps and wall time to them) for one
     committed experiment, by the report's own function."""
     targets = grid_targets(path / "grid.yaml")
-    return "\n".join(benchmark_table(read_results(path / "results.csv"), targets, bootstrap_ci)).strip()
+    return "\n".join(benchmark_table(read_results(path / "results.csv"), targets)).strip()
 
 
 def figures(path: Path, name: str, depth: int) -> str:
-    """Markdown embedding the report's figures: success against steps for each task, and
-    the training episodes' success and return in a collapsed block."""
+    """Markdown embedding the report's figures: success against steps for each task, final
+    success per setting, the cross-task aggregates where the report has them, and the
+    training episodes' success and return in a collapsed block."""
     report = path / "report"
     up = "../" * depth
     success = sorted(report.glob("*_success.png"))
     training = sorted(report.glob("*_training.png"))
     final = sorted(report.glob("*_final.png"))
+    panels = ("iqm", "profile", "improvement")  # the report's order
+    aggregates = sorted(report.glob("aggregates_*.png"), key=lambda p: (p.stem.rsplit("_", 1)[0], _rank(p, panels)))
     out = []
-    for png in success + final:
+    for png in success + final + aggregates:
         out += [f"![{png.stem}]({up}{ASSETS}/{name}/{png.name})", ""]
     if training:
         out += ['??? note "Training episodes: success and return against steps"', ""]
         out += [f"    ![{png.stem}]({up}{ASSETS}/{name}/{png.name})\n" for png in training]
     return "\n".join(out)
+
+
+def _rank(png: Path, panels: tuple[str, ...]) -> int:
+    kind = png.stem.rsplit("_", 1)[-1]
+    return panels.index(kind) if kind in panels else len(panels)
 
 
 def command(path: Path) -> str:

@@ -32,11 +32,11 @@ def test_steps_to_is_the_first_evaluation_reaching_the_threshold():
 def test_table_marks_targets_and_scales_wall_time_by_the_steps_fraction():
     rows = [_row(0, [[500, 0.5], [1000, 0.9]]), _row(1, [[500, 0.92], [1000, 0.96]], wall=7200.0)]
     targets = (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9), Target("UnifiedManip/Lift-v0", "ee_delta", 0.9))
-    lines = benchmark_table(rows, targets, ci=lambda v: (min(v), max(v)))
+    lines = benchmark_table(rows, targets)
     row = next(line for line in lines if line.startswith("| Arm4Push"))
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[:6] == ["Arm4Push-v0", "ee_delta", "sac_her", "sparse", "1,000", "2"]
-    assert cells[6] == "0.93 [0.90, 0.96]" and cells[7] == "0.90" and cells[8] == "**yes**"
+    assert cells[6] == "0.93 [0.90, 0.96] (range of 2 seeds)" and cells[7] == "0.90" and cells[8] == "**yes**"
     assert cells[9] == "1,000, 500"  # seed 0 reaches 0.9 at its last point, seed 1 at 500
     assert cells[10] == "1.00 h, 1.00 h"  # 3600 s x 1000/1000 and 7200 s x 500/1000
     lift = next(line for line in lines if line.startswith("| Lift"))
@@ -44,11 +44,7 @@ def test_table_marks_targets_and_scales_wall_time_by_the_steps_fraction():
 
 
 def test_a_missed_target_is_marked_no():
-    lines = benchmark_table(
-        [_row(0, [[1000, 0.4]])],
-        (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9),),
-        ci=lambda v: (float("nan"), float("nan")),
-    )
+    lines = benchmark_table([_row(0, [[1000, 0.4]])], (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9),))
     cells = [c.strip() for c in lines[2].strip("|").split("|")]
     assert cells[6] == "0.40" and cells[8] == "no" and cells[9] == "—"
 
@@ -57,10 +53,10 @@ def test_a_mean_equal_to_the_target_is_met_despite_float_rounding():
     # 0.96, 0.90 and 0.84 average to 0.8999999999999999 in floats: shown as 0.90, and met.
     target = (Target("UnifiedManip/Arm4Push-v0", "ee_delta", 0.9),)
     rows = [_row(seed, [[1000, final]]) for seed, final in enumerate([0.96, 0.90, 0.84])]
-    lines = benchmark_table(rows, target, ci=lambda v: (min(v), max(v)))
+    lines = benchmark_table(rows, target)
     cells = [c.strip() for c in lines[2].strip("|").split("|")]
-    assert cells[6] == "0.90 [0.84, 0.96]" and cells[8] == "**yes**"
-    just_below = benchmark_table([_row(0, [[1000, 0.88]])], target, ci=lambda v: (min(v), max(v)))
+    assert cells[6] == "0.90 [0.84, 0.96] (range of 3 seeds)" and cells[8] == "**yes**"
+    just_below = benchmark_table([_row(0, [[1000, 0.88]])], target)
     assert [c.strip() for c in just_below[2].strip("|").split("|")][8] == "no"
 
 

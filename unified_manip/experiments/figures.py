@@ -1,8 +1,9 @@
 """The report's figures: success against steps per task, and final success per setting.
 
 A *group* is what :func:`unified_manip.experiments.report._group` gives for one task: ``(algo,
-action mode, reward) -> runs`` (result rows, one per seed). Intervals are the 95%
-percentile bootstrap over seeds of :mod:`unified_manip.experiments.stats`.
+action mode, reward) -> runs`` (result rows, one per seed). Intervals over seeds are
+:func:`~unified_manip.experiments.stats.seed_interval`'s: the seeds' range below 5 seeds,
+the 95% percentile bootstrap of the mean from 5 on.
 """
 
 from __future__ import annotations
@@ -12,7 +13,20 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from unified_manip.experiments.stats import bootstrap_ci
+from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
+
+
+def interval_label(seed_counts) -> str:
+    """What a figure's bands or whiskers over seeds are, for settings of these seed counts."""
+    few = {n < MIN_SEEDS_FOR_CI for n in seed_counts if n > 1}
+    if not few:
+        return "none, one seed each"
+    if few == {True}:
+        return "range of the seeds"
+    if few == {False}:
+        return "95% bootstrap CI"
+    return f"range of the seeds where n < {MIN_SEEDS_FOR_CI}, 95% bootstrap CI where n ≥ {MIN_SEEDS_FOR_CI}"
+
 
 #: A group key is (algo, action mode, reward); labels name its parts in this order of
 #: the key's indices (action mode, reward, algo): what a reader compares first.
@@ -24,7 +38,7 @@ class Bar(NamedTuple):
 
     label: str
     mean: float
-    low: float  # 95% bootstrap interval; NaN with one seed
+    low: float  # seed_interval: range below 5 seeds, 95% bootstrap CI from 5; NaN with one seed
     high: float
     values: tuple[float, ...]  # per seed, in seed order
 
@@ -50,7 +64,8 @@ def _target_lines(targets: dict[str, float] | None) -> list[tuple[float, str]]:
 
 
 def curve_band(runs: list[dict[str, Any]]):
-    """Eval steps, mean success and a 95% bootstrap band over seeds.
+    """Eval steps, mean success and a band over seeds at each step (:func:`seed_interval`:
+    the seeds' range below 5 seeds, the 95% bootstrap CI of the mean from 5 on).
 
     Seeds evaluated at different steps (one committed Arm4Push-v1 seed was evaluated at
     10k, 20k, 33,040, 43,040, ...) are read at every step any of them was evaluated at,
@@ -67,7 +82,7 @@ def curve_band(runs: list[dict[str, Any]]):
     low, high = np.full_like(mean, np.nan), np.full_like(mean, np.nan)
     if len(curves) >= 2:
         for i in range(len(steps)):
-            low[i], high[i] = bootstrap_ci(table[:, i].tolist(), seed=i)
+            low[i], high[i], _ = seed_interval(table[:, i].tolist(), seed=i)
     return np.array(steps), mean, low, high
 
 
@@ -83,7 +98,8 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
     for level, label in _target_lines(targets):
         ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=label)
-    ax.set_title(f"{task}: evaluation success rate (mean, 95% bootstrap CI over seeds)", fontsize=9)
+    band = interval_label(len(runs) for runs in groups.values())
+    ax.set_title(f"{task}: evaluation success rate\n(mean over seeds, shaded: {band})", fontsize=9)
     ax.set_xlabel("environment steps")
     ax.set_ylabel("success rate")
     ax.set_ylim(-0.02, 1.02)
@@ -103,15 +119,15 @@ def final_bars(groups: dict) -> list[Bar]:
     bars = []
     for key, runs in groups.items():
         values = tuple(r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"]))
-        low, high = bootstrap_ci(list(values))
+        low, high, _ = seed_interval(list(values))
         label = " / ".join(key[i] for i in varying)
         bars.append(Bar(label, float(np.mean(values)), low, high, values))
     return sorted(bars, key=lambda b: (-b.mean, b.label))
 
 
 def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | None = None) -> Path:
-    """Final success per setting as horizontal bars (mean over seeds, 95% bootstrap
-    interval, each seed a dot), best on top; one dashed line per target."""
+    """Final success per setting as horizontal bars (mean over seeds, the interval of
+    :func:`seed_interval`, each seed a dot), best on top; one dashed line per target."""
     plt = pyplot()
     bars = final_bars(groups)
     fig, ax = plt.subplots(figsize=(7, 0.9 + 0.42 * len(bars)), dpi=110)
@@ -129,7 +145,8 @@ def plot_final(task: str, groups: dict, out: Path, targets: dict[str, float] | N
         )
     ax.set_yticks(y, [f"{b.label} (n={len(b.values)})" for b in bars], fontsize=8)
     ax.set_xlim(0, 1.1)
-    ax.set_xlabel("final success rate (bar: mean over seeds, whisker: 95% bootstrap CI, dots: seeds)", fontsize=8)
+    whisker = interval_label(len(b.values) for b in bars)
+    ax.set_xlabel(f"final success rate (bar: mean over seeds, whisker: {whisker}, dots: seeds)", fontsize=8)
     ax.set_title(f"{task}: final evaluation success per setting", fontsize=9, pad=14 if targets else 6)
     ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()

@@ -2,8 +2,9 @@
 one or more benches, a panel per task, for a README or a paper.
 
 Each panel draws one line per *setting* (action mode, reward, algorithm, and whether the
-runs started from scripted demonstrations): the mean over seeds with its 95% bootstrap
-band (:func:`unified_manip.experiments.figures.curve_band`), and each bench's target for the
+runs started from scripted demonstrations): the mean over seeds with its band
+(:func:`unified_manip.experiments.figures.curve_band`: the seeds' range below 5 seeds, the
+95% bootstrap CI from 5), and each bench's target for the
 task as a dashed line. rl-baselines3-zoo draws one plot per env; this puts a benchmark's
 tasks side by side, in the order they first appear in the results files.
 """
@@ -17,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.experiments.figures import curve_band, pyplot
+from unified_manip.experiments.figures import curve_band, interval_label, pyplot
 from unified_manip.experiments.results import ResultsError, read_results
 from unified_manip.experiments.targets import grid_targets
 
@@ -99,7 +100,8 @@ def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[
         ax.set_visible(False)
     fig.supxlabel("environment steps", fontsize=9)
     fig.supylabel("success rate", fontsize=9)
-    fig.suptitle("Evaluation success against environment steps (mean over seeds, 95% bootstrap band)", fontsize=10)
+    band = interval_label(len(runs) for settings in panels.values() for runs in settings.values())
+    fig.suptitle(f"Evaluation success against environment steps (mean over seeds, shaded: {band})", fontsize=10)
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)

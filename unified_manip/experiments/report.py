@@ -1,9 +1,10 @@
 """``unified-manip report RESULTS``: Markdown and PNG figures from a bench's results.
 
-Statistics come from libraries, not hand-rolled code: 95% confidence intervals of mean
-final success are ``scipy.stats.bootstrap`` percentile intervals over seeds; the
-interquartile mean (IQM, with its stratified-bootstrap interval) and the probability of
-improvement come from ``rliable``. The report states the budget, the seeds, the
+Statistics come from libraries, not hand-rolled code. A cell's interval over seeds is
+labelled as what it is (:func:`~unified_manip.experiments.stats.seed_interval`): the range
+of its seeds below 5 seeds, a ``scipy.stats.bootstrap`` 95% percentile interval of the mean
+from 5 on; the interquartile mean (IQM, with its stratified-bootstrap interval) and the
+probability of improvement come from ``rliable``. The report states the budget, the seeds, the
 package versions and the commands that produced it, and includes the dense-reward
 sanity check of :mod:`unified_manip.experiments.sanity`.
 """
@@ -19,9 +20,10 @@ from typing import Any
 import numpy as np
 import yaml
 
+from unified_manip.experiments.aggregate_report import aggregate_section
 from unified_manip.experiments.figures import plot_final, plot_task
 from unified_manip.experiments.results import read_results
-from unified_manip.experiments.stats import MIN_RUNS_FOR_IQM, bootstrap_ci, iqm_with_ci, probability_of_improvement
+from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, probability_of_improvement, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 
 
@@ -30,10 +32,6 @@ def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], l
     for r in rows:
         out[r["task"]][(r["algo"], r["action_mode"], r["reward_type"])].append(r)
     return out
-
-
-def _fmt(x: float) -> str:
-    return "—" if x != x else f"{x:.2f}"
 
 
 def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
@@ -121,8 +119,10 @@ def build_report(
         ),
         "- Success rate: deterministic evaluation episodes at each evaluation point (SB3 `EvalCallback`); "
         "final = the last evaluation.",
-        f"- Intervals: 95% percentile bootstrap over seeds (`scipy.stats.bootstrap`); IQM (rliable) only with "
-        f"≥ {MIN_RUNS_FOR_IQM} runs; probability of improvement from rliable.",
+        f"- Intervals of one setting over seeds: with fewer than {MIN_SEEDS_FOR_CI} seeds, the range (min–max) "
+        f"of the seeds, labelled so; from {MIN_SEEDS_FOR_CI} seeds, the 95% percentile bootstrap of the mean "
+        f"(`scipy.stats.bootstrap`). IQM (rliable) only from {MIN_SEEDS_FOR_CI} seeds; probability of "
+        "improvement from rliable.",
         "",
         "Package versions:",
         "",
@@ -134,18 +134,17 @@ def build_report(
     targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
     lines += [
-        "| task | algo | action mode | reward | seeds | mean | 95% CI | IQM [95% CI] | per seed |",
+        "| task | algo | action mode | reward | seeds | mean | interval | IQM [95% CI] | per seed |",
         "|---|---|---|---|---:|---:|---|---|---|",
     ]
     for task, groups in by_task.items():
         for (algo, mode, reward), runs in sorted(groups.items()):
             vals = [r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"])]
-            lo, hi = bootstrap_ci(vals)
             iqm = iqm_with_ci(vals)
-            iqm_s = f"{iqm[0]:.2f} [{iqm[1]:.2f}, {iqm[2]:.2f}]" if iqm else "— (too few runs)"
+            iqm_s = f"{iqm[0]:.2f} [{iqm[1]:.2f}, {iqm[2]:.2f}]" if iqm else f"— (under {MIN_SEEDS_FOR_CI} seeds)"
             lines.append(
                 f"| {task.split('/')[-1]} | {algo} | {mode} | {reward} | {len(vals)} | {np.mean(vals):.2f} | "
-                f"[{_fmt(lo)}, {_fmt(hi)}] | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
+                f"{seed_interval(vals).text() or '—'} | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
             )
     lines.append("")
     for task, groups in by_task.items():
@@ -155,7 +154,7 @@ def build_report(
 
     if grid_file.is_file():
         lines += ["## Benchmark table", ""]
-        lines += benchmark_table(rows, targets, bootstrap_ci)
+        lines += benchmark_table(rows, targets)
 
     lines += ["## Success against environment steps", ""]
     for task, groups in by_task.items():
@@ -174,6 +173,8 @@ def build_report(
                 continue
             lines += [f"**{task.split('/')[-1]}**, {algo}, {reward} reward:", ""]
             lines += _ranking_table(["action mode"], {(mode,): vals for mode, vals in modes.items()})
+
+    lines += aggregate_section(rows, out)
 
     configs_by_task = {t: g for t, g in by_task.items() if len({m for _, m, _ in g}) == 1 and len(g) > 1}
     if configs_by_task:
@@ -259,7 +260,7 @@ def _ranking_table(columns: list[str], settings: dict[tuple[str, ...], list[floa
 def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
     """Measured final success beside claimed numbers (``claims``: label -> spec)."""
     lines = [
-        "| run | claimed success (budget) | measured mean final success [95% CI] (budget, seeds) |",
+        "| run | claimed success (budget) | measured mean final success [interval] (budget, seeds) |",
         "|---|---|---|",
     ]
     for label, c in claims.items():
@@ -271,8 +272,8 @@ def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:
         if not vals:
             lines.append(f"| {label} | {c['claimed']} ({c['claimed_budget']}) | not run |")
             continue
-        lo, hi = bootstrap_ci(vals)
-        interval = f" [{_fmt(lo)}, {_fmt(hi)}]" if len(vals) > 1 else ""  # none from one seed
+        interval = seed_interval(vals).text()  # none from one seed
+        interval = f" {interval}" if interval else ""
         budget = sorted({r["steps"] for r in rows if r["algo"] == c["algo"] and r["reward_type"] == c["reward_type"]})
         lines.append(
             f"| {label} | {c['claimed']} ({c['claimed_budget']}) | {np.mean(vals):.2f}{interval} "

@@ -18,6 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.experiments.stats import seed_interval
+
 #: Threshold used for "steps to" columns when a setting has no target.
 DEFAULT_THRESHOLD = 0.9
 
@@ -80,17 +82,15 @@ def _meets(mean: float, target: float) -> bool:
     return mean >= target or math.isclose(mean, target, abs_tol=1e-9)
 
 
-def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...], ci) -> list[str]:
-    """Markdown lines: one row per (task, action mode, algo, reward) setting.
-
-    ``ci`` maps a list of final successes to a (low, high) interval.
-    """
+def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...]) -> list[str]:
+    """Markdown lines: one row per (task, action mode, algo, reward) setting, its final
+    success with the interval :func:`~unified_manip.experiments.stats.seed_interval` labels."""
     goal = {(t.task, t.action_mode): t.success for t in targets}
     groups: dict[tuple[str, str, str, str], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         groups[(r["task"], r["action_mode"], r["algo"], r["reward_type"])].append(r)
     lines = [
-        "| task | mode | algo | reward | budget | seeds | final success [95% CI] | target | met | "
+        "| task | mode | algo | reward | budget | seeds | final success [interval] | target | met | "
         "steps to target (per seed) | wall time to target (per seed) | wall time per run | steps/s |",
         "|---|---|---|---|---:|---:|---|---:|---|---|---|---|---:|",
     ]
@@ -98,8 +98,8 @@ def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...], ci)
         runs = sorted(runs, key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
         mean = float(np.mean(finals))
-        lo, hi = ci(finals)
-        interval = f" [{lo:.2f}, {hi:.2f}]" if lo == lo else ""
+        interval = seed_interval(finals).text()
+        interval = f" {interval}" if interval else ""
         target = goal.get((task, mode))
         threshold = target if target is not None else DEFAULT_THRESHOLD
         reached = [steps_to(r["curve"], threshold) for r in runs]
