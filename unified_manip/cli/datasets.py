@@ -16,6 +16,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int
 from unified_manip.envs.config import ACTION_MODES
+from unified_manip.envs.observations import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 
@@ -61,6 +62,11 @@ def add_commands(sub) -> None:
     p.add_argument("dataset", help="dataset directory (written by collect or convert)")
     p.add_argument("--action-mode", required=True, choices=ACTION_MODES)
     p.add_argument("--out", required=True, help="new dataset directory ROOT/NAME-vN")
+    p.add_argument(
+        "--observation",
+        type=parse_observation,
+        help="record the converted episodes with this observation design (default: the dataset's)",
+    )
     p.add_argument("--keep-failed", action="store_true", help="keep the episodes that no longer succeed")
     p.add_argument("--overwrite", action="store_true", help="replace a dataset at --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -186,6 +192,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
         keep_failed=args.keep_failed,
         overwrite=args.overwrite,
         progress=not args.no_progress,
+        observation=args.observation,
     )
     table = Table(title=f"{args.dataset} converted to {args.action_mode}")
     for col in ("episode", "steps", "success recorded", "success converted", "tracking error cm (mean / max)"):

@@ -64,9 +64,11 @@ def convert(
     overwrite: bool = False,
     progress: bool = True,
     first: int | None = None,
+    observation: Any = None,
 ) -> ConvertReport:
     """Convert the dataset at ``path`` (its ``first`` episodes; ``None``: all) to
-    ``action_mode`` and publish it as ``out`` (``None``: measure only). No dataset is
+    ``action_mode`` (and to the observation design ``observation``; ``None``: the
+    recorded one) and publish it as ``out`` (``None``: measure only). No dataset is
     written when no episode is kept."""
     import gymnasium as gym
     from tqdm import tqdm
@@ -85,6 +87,10 @@ def convert(
         raise DatasetError(str(err)) from None
     source = dataset.recover_environment()
     kwargs = {**meta["env_kwargs"], "action_mode": action_mode}
+    if observation is not None:
+        kwargs.pop("observation", None)
+        if observation != "default":
+            kwargs["observation"] = observation
     target = gym.make(spec.id, **kwargs)
     try:
         rig = getattr(source.unwrapped.backend, "rig", None)
