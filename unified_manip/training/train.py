@@ -81,6 +81,10 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
+    if req.algo == "bc":  # behaviour cloning of a dataset, in gradient steps (unified_manip.training.bc)
+        from unified_manip.training.bc import train_bc
+
+        return train_bc(req, argv, progress, log, threads, lock_wait_s)
     try:
         resolved = resolve_run(req.algo, req.env, req.overrides, action_mode=req.action_mode)
         # The device is where a run executes, not what it is: it stays out of the compared
