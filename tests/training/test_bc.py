@@ -16,7 +16,8 @@ from unified_manip.training.train import train
 
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
 #: Three scripted ee_delta episodes (sparse reward), committed for tests and examples.
-DATASET = Path(__file__).resolve().parents[2] / "datasets" / "examples" / "arm4-pickandplace-ee_delta-v0"
+EXAMPLES = Path(__file__).resolve().parents[2] / "datasets" / "examples"
+DATASET = EXAMPLES / "arm4-pickandplace-ee_delta-v0"
 SETTINGS = ("eval_freq=100", "n_eval_episodes=2", "checkpoint_freq=100", "batch_size=64")
 
 
@@ -99,7 +100,10 @@ def test_bc_runs_in_a_bench_grid_and_loads_in_report(tmp_path):
                 "steps": 100,
                 "eval_freq": 100,
                 "n_eval_episodes": 2,
-                "overrides": {"bc": [f"demonstrations={DATASET}", "batch_size=64"]},
+                # {action_mode}: each mode's own dataset (here the ee_delta example)
+                "overrides": {
+                    "bc": [f"demonstrations={EXAMPLES}/arm4-pickandplace-{{action_mode}}-v0", "batch_size=64"]
+                },
             }
         )
     )
@@ -108,6 +112,13 @@ def test_bc_runs_in_a_bench_grid_and_loads_in_report(tmp_path):
     report = build_report(tmp_path / "out" / "results.csv", tmp_path / "report", dense_check=False)
     text = report.read_text()
     assert "100 gradient steps" in text and "bc" in text
+    record = json.loads((tmp_path / "out" / "runs" / summary_run(tmp_path) / "demonstrations.json").read_text())
+    assert record["dataset"] == str(DATASET)
+
+
+def summary_run(tmp_path: Path) -> str:
+    (run,) = [p.name for p in (tmp_path / "out" / "runs").iterdir()]
+    return run
 
 
 @pytest.mark.parametrize(

@@ -85,7 +85,7 @@ def _train_owned(req, run: RunConfig, algo_kwargs, config, progress: bool, log, 
     import torch
     from tqdm import tqdm
 
-    from unified_manip.training.dataset_demonstrations import prefill
+    from unified_manip.training.dataset_demonstrations import dataset_path, prefill
     from unified_manip.training.hyperparams import get_algo
     from unified_manip.training.run_envs import eval_env as make_eval_env
     from unified_manip.training.run_envs import make_vec_env
@@ -127,10 +127,10 @@ def _train_owned(req, run: RunConfig, algo_kwargs, config, progress: bool, log, 
                 ) from None
             log(f"{run_dir}: resuming from gradient step {model.num_timesteps} of {req.steps}")
         else:
-            kwargs = {**algo_kwargs, "buffer_size": _rows(source), "learning_starts": 0}
+            kwargs = {**algo_kwargs, "buffer_size": _rows(dataset_path(source, req.env_config())), "learning_starts": 0}
             model = algo.cls()(env=env, seed=req.seed, device=run.device, verbose=0, **kwargs)
         done = prefill(model, source, req.env, req.env_config())
-        log(f"{run_dir}: cloning {done['episodes']} episodes ({done['transitions']} transitions) of {source}")
+        log(f"{run_dir}: cloning {done['episodes']} episodes ({done['transitions']} transitions) of {done['dataset']}")
         if not candidates:
             record = {**done, **demonstration_settings(run), "budget": BUDGET}
             rundir.write_atomic(run_dir / "demonstrations.json", json.dumps(record, indent=2) + "\n")

@@ -26,6 +26,13 @@ import numpy as np
 from unified_manip.training.demonstrations import DemonstrationError
 
 
+def dataset_path(path: str, env_config: dict[str, Any]) -> str:
+    """``path`` with ``{action_mode}`` replaced by the run's action mode: one grid entry
+    (``overrides: {bc: [demonstrations=data/TASK-{action_mode}-v0]}``) then names each
+    mode's own dataset."""
+    return path.replace("{action_mode}", str(env_config.get("action_mode")))
+
+
 def _dataset(path: str):
     from unified_manip.datasets import DatasetError
     from unified_manip.datasets.store import metadata, open_dataset
@@ -47,9 +54,11 @@ def _converted_name(path: str, mode: str) -> str:
 def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]:
     """Raise :class:`DemonstrationError` unless the dataset at ``path`` was recorded on
     ``task_id`` with the env keyword arguments ``env_config`` (the run's ``action_mode``,
-    ``reward_type`` and extras); return its metadata (``unified_manip``'s)."""
+    ``reward_type`` and extras); return its metadata (``unified_manip``'s). ``path`` may
+    hold ``{action_mode}`` (:func:`dataset_path`)."""
     from unified_manip.envs.observations import observation_label
 
+    path = dataset_path(path, env_config)
     _, meta = _dataset(path)
     if meta["env_id"] != task_id:
         raise DemonstrationError(
@@ -94,6 +103,7 @@ def prefill(model, path: str, task_id: str, env_config: dict[str, Any]) -> dict[
     Returns ``{"episodes", "transitions", "success", "dataset", "dataset_episodes"}``.
     """
     meta = check(path, task_id, env_config)
+    path = dataset_path(path, env_config)
     dataset, _ = _dataset(path)
     buffer = model.replay_buffer
     n_envs = buffer.n_envs

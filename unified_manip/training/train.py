@@ -304,7 +304,8 @@ def _demonstrate(model, req: TrainRequest, run: RunConfig, log) -> None:
             venv.close()
     log(
         f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
-        f"{done['success']:.2f} success) in the replay buffer" + (f" from {source}" if isinstance(source, str) else "")
+        f"{done['success']:.2f} success) in the replay buffer"
+        + (f" from {done['dataset']}" if "dataset" in done else "")
     )
     done.update(demonstration_settings(run))
     bc_steps = run.demos.bc_steps
