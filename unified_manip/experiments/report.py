@@ -85,10 +85,9 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
 def _sources(records: list[dict]) -> str:
     """Where the demonstrations came from: the task's scripted policy, or datasets."""
     datasets = sorted({d["dataset"] for d in records if d.get("dataset")})
-    named = [f"`{d}`" for d in datasets] + (
-        ["the task's scripted policy"] if any(not d.get("dataset") for d in records) else []
-    )
-    return " or ".join(named) if len(named) < 4 else f"{len(datasets)} datasets or the task's scripted policy"
+    scripted = ["the task's scripted policy"] if any(not d.get("dataset") for d in records) else []
+    named = [f"`{d}`" for d in datasets] if len(datasets) < 4 else [f"{len(datasets)} datasets"]
+    return " or ".join(named + scripted)
 
 
 def build_report(
