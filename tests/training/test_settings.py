@@ -70,7 +70,7 @@ def test_the_defaults_are_stated_once_and_read_flat():
         ("normalize", "yes", "normalize must be true or false, got 'yes'"),
         ("device", "gpu", "device must be one of auto, cpu, cuda, got 'gpu'"),
         ("n_envs", 0, "n_envs must be an integer >= 1, got 0"),
-        ("demonstrations", -1, "demonstrations must be an integer >= 0, got -1"),
+        ("demonstrations", -1, "demonstrations must be an integer >= 0 or a dataset path, got -1"),
         ("bc_steps", -1, "bc_steps must be an integer >= 0, got -1"),
         ("bc_weight", "x", "bc_weight must be a number >= 0, got 'x'"),
         ("bc_weight", float("nan"), "bc_weight must be a number >= 0, got nan"),

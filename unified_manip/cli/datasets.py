@@ -16,6 +16,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int
 from unified_manip.envs.config import ACTION_MODES
+from unified_manip.envs.observations import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 
@@ -23,14 +24,20 @@ from unified_manip.envs.rewards import REWARD_TYPES
 def add_commands(sub) -> None:
     """Add ``collect``, ``replay`` and ``convert`` to the subparsers ``sub``."""
     p = sub.add_parser("collect", help="record a policy's episodes as a Minari dataset, with simulator states")
-    p.add_argument("--env", required=True, choices=list(TASKS), metavar="ID", help="registered task ID")
+    p.add_argument("--env", choices=list(TASKS), metavar="ID", help="registered task ID (with --all: only this task)")
+    p.add_argument(
+        "--all",
+        action="store_true",
+        help="every task with a scripted policy, in every mode conversion reaches (>= 80%%), N successful "
+        "episodes each, into the directory --out (resumable)",
+    )
     p.add_argument(
         "--policy",
         default="scripted",
         metavar="scripted|random|RUN_DIR",
         help="the task's scripted policy, uniform random actions, or a trained run (default: scripted)",
     )
-    p.add_argument("--episodes", type=positive_int, required=True, help="episodes in the dataset")
+    p.add_argument("--episodes", type=positive_int, help="episodes in the dataset (with --all: default 100)")
     p.add_argument("--action-mode", choices=ACTION_MODES, help="default: ee_delta, or the run's own mode")
     p.add_argument("--reward-type", choices=REWARD_TYPES, help="default: sparse, or the run's own")
     p.add_argument(
@@ -40,7 +47,9 @@ def add_commands(sub) -> None:
         metavar="KEY=VALUE",
         help="extra gym.make keyword argument, a YAML value (repeatable), e.g. observation=relative",
     )
-    p.add_argument("--out", required=True, help="dataset directory ROOT/NAME-vN (MINARI_DATASETS_PATH=ROOT)")
+    p.add_argument(
+        "--out", required=True, help="dataset directory ROOT/NAME-vN (MINARI_DATASETS_PATH=ROOT); with --all: ROOT"
+    )
     p.add_argument("--seed", type=int, default=0, help="episode k is reset with seed + k")
     p.add_argument("--only-successful", action="store_true", help="keep successful episodes only")
     p.add_argument("--overwrite", action="store_true", help="replace a dataset at --out")
@@ -61,6 +70,11 @@ def add_commands(sub) -> None:
     p.add_argument("dataset", help="dataset directory (written by collect or convert)")
     p.add_argument("--action-mode", required=True, choices=ACTION_MODES)
     p.add_argument("--out", required=True, help="new dataset directory ROOT/NAME-vN")
+    p.add_argument(
+        "--observation",
+        type=parse_observation,
+        help="record the converted episodes with this observation design (default: the dataset's)",
+    )
     p.add_argument("--keep-failed", action="store_true", help="keep the episodes that no longer succeed")
     p.add_argument("--overwrite", action="store_true", help="replace a dataset at --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -90,6 +104,11 @@ def cmd_collect(args: argparse.Namespace) -> int:
     from unified_manip.datasets import DatasetError
     from unified_manip.datasets.policies import BUILT_IN
     from unified_manip.datasets.recording import collect
+
+    if args.all:
+        return _collect_all(args)
+    if args.env is None or args.episodes is None:
+        raise DatasetError("collect needs --env ID and --episodes N (or --all)")
 
     kwargs = {"action_mode": args.action_mode or "ee_delta", "reward_type": args.reward_type or "sparse"}
     if args.policy in BUILT_IN:
@@ -186,6 +205,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
         keep_failed=args.keep_failed,
         overwrite=args.overwrite,
         progress=not args.no_progress,
+        observation=args.observation,
     )
     table = Table(title=f"{args.dataset} converted to {args.action_mode}")
     for col in ("episode", "steps", "success recorded", "success converted", "tracking error cm (mean / max)"):
@@ -208,3 +228,46 @@ def cmd_convert(args: argparse.Namespace) -> int:
         return 1
     print(f"wrote {report.out}: {report.kept} episodes")
     return 0
+
+
+def _collect_all(args: argparse.Namespace) -> int:
+    """``collect --all``: :func:`unified_manip.datasets.catalogue.collect_all`, with the
+    trained runs under ``results/`` for the tasks the scripted policy does not cover."""
+    from unified_manip.datasets import DatasetError
+    from unified_manip.datasets.catalogue import collect_all
+
+    fixed = [f"--{k.replace('_', '-')}" for k in ("action_mode", "reward_type", "env_kwarg") if getattr(args, k)]
+    if args.policy != "scripted" or fixed:
+        raise DatasetError(f"--all chooses the policies and modes itself; drop {', '.join(fixed or ['--policy'])}")
+    tasks = [args.env] if args.env else None
+    manifest = collect_all(
+        Path(args.out), args.episodes or 100, tasks, _trained_runs(Path("results")), progress=not args.no_progress
+    )
+    written = sum(e["state"] == "written" for e in manifest.values())
+    print(f"{written} datasets in {args.out}, {len(manifest) - written} skipped (see {args.out}/catalogue.json)")
+    return 0
+
+
+def _trained_runs(results: Path) -> dict:
+    """``task ID -> (make_policy, source, env kwargs)``: for each task, the finished run under
+    ``results`` with a final model and the highest last evaluation (none: models are not
+    committed, so a fresh clone has none)."""
+    import numpy as np
+    import yaml
+
+    best: dict[str, tuple[float, Path, dict]] = {}
+    for model in results.glob("*/runs/*/final_model.zip"):
+        run = model.parent
+        try:
+            config = yaml.safe_load((run / "config.yaml").read_text())
+            with np.load(run / "eval" / "evaluations.npz") as data:
+                success = float(data["successes"][-1].mean())
+        except (OSError, KeyError, ValueError, IndexError):
+            continue
+        if success > best.get(config["env"], (-1.0,))[0]:
+            best[config["env"]] = (success, run, config["env_kwargs"])
+    if not best:
+        return {}
+    from unified_manip.training.played import run_policy
+
+    return {task: (run_policy(run), f"run {run} (deterministic)", kw) for task, (_, run, kw) in best.items()}

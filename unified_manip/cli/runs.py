@@ -44,6 +44,12 @@ def add_commands(sub) -> None:
     p.add_argument("--run-dir", help="run directory (default: runs/<task>__<mode>__<reward>__<algo>__s<seed>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a hyperparameter (repeatable)")
     p.add_argument(
+        "--demonstrations",
+        metavar="DATASET",
+        help="a dataset (unified-manip collect or convert) for the replay buffer, or to clone with --algo bc "
+        "(the same as --set demonstrations=DATASET)",
+    )
+    p.add_argument(
         "--env-kwarg",
         action="append",
         type=env_kwarg,
@@ -148,7 +154,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         n_envs=args.n_envs,
         vec=args.vec,
         run_dir=Path(args.run_dir) if args.run_dir else None,
-        overrides=tuple(args.set or ()),
+        overrides=tuple(args.set or ()) + ((f"demonstrations={args.demonstrations}",) if args.demonstrations else ()),
         env_kwargs={**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})},
         device=args.device,
         restart=args.restart,

@@ -64,10 +64,15 @@ def convert(
     overwrite: bool = False,
     progress: bool = True,
     first: int | None = None,
+    observation: Any = None,
+    keep: int | None = None,
+    max_failed: int | None = None,
 ) -> ConvertReport:
     """Convert the dataset at ``path`` (its ``first`` episodes; ``None``: all) to
-    ``action_mode`` and publish it as ``out`` (``None``: measure only). No dataset is
-    written when no episode is kept."""
+    ``action_mode`` (and to the observation design ``observation``; ``None``: the
+    recorded one) and publish it as ``out`` (``None``: measure only), with its first
+    ``keep`` kept episodes (``None``: all). No dataset is written when no episode is kept,
+    nor when more than ``max_failed`` episodes fail to convert (the conversion stops there)."""
     import gymnasium as gym
     from tqdm import tqdm
 
@@ -85,6 +90,10 @@ def convert(
         raise DatasetError(str(err)) from None
     source = dataset.recover_environment()
     kwargs = {**meta["env_kwargs"], "action_mode": action_mode}
+    if observation is not None:
+        kwargs.pop("observation", None)
+        if observation != "default":
+            kwargs["observation"] = observation
     target = gym.make(spec.id, **kwargs)
     try:
         rig = getattr(source.unwrapped.backend, "rig", None)
@@ -119,6 +128,10 @@ def convert(
             rows.append(row)
             if row.success_converted or keep_failed:
                 kept.append(episode)
+            if max_failed is not None and sum(not r.success_converted for r in rows) > max_failed:
+                kept = []  # out of reach: nothing is written
+                break
+        kept = kept[:keep]
         if out is not None and kept:
             published = {
                 "env_id": spec.id,

@@ -62,7 +62,7 @@ def publish(out: Path, episodes: list, env: Any, metadata: dict[str, Any], descr
 
     metadata = {**metadata, "versions": versions.installed(), "state": STATE}
     buffers = [episode.buffer(i) for i, episode in enumerate(episodes)]
-    out = Path(out)
+    out = Path(out).absolute()  # Minari joins a relative MINARI_DATASETS_PATH onto its own paths twice
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp_root = out.parent / f".{out.name}.partial-{os.getpid()}"
     shutil.rmtree(tmp_root, ignore_errors=True)

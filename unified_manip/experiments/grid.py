@@ -153,11 +153,14 @@ def load_grid(path: Path) -> Grid:
             if only is not None and not any(all(combo[k] == v for k, v in e.items()) for e in only):
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
+            kwargs = env_kwargs if o == "default" else {**env_kwargs, "observation": o}
             try:  # every hyperparameter override is checked before anything starts
                 resolved = resolve_run(a, t, sets, action_mode=m)
                 run = replace(resolved.run, n_envs=n_envs[a] or resolved.run.n_envs)
                 check_her_warmup(a, resolved.algo_kwargs, run, TASKS[t].max_episode_steps)
-                check_demonstration_settings(t, m, ALGOS[a].off_policy, run)
+                check_demonstration_settings(
+                    t, m, ALGOS[a].off_policy, run, {"action_mode": m, "reward_type": r, **kwargs}
+                )
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
                 if (t, observation_label(o)) not in checked:  # the task's groups (one backend per task)
@@ -165,7 +168,6 @@ def load_grid(path: Path) -> Grid:
                     checked.add((t, observation_label(o)))
             except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
-            kwargs = env_kwargs if o == "default" else {**env_kwargs, "observation": o}
             design = o if isinstance(o, str) else tuple(o)
             runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design))
     if not runs:

@@ -34,6 +34,11 @@ def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], l
     return out
 
 
+def _budget_unit(row: dict) -> str:
+    """What a run's ``steps`` counts: gradient steps for behaviour cloning (``bc``), else env steps."""
+    return "gradient steps" if row["algo"] == "bc" else "environment steps"
+
+
 def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     """What the runs that started from scripted demonstrations were given (a prior they
     did not collect, so the report says so). Each record holds every demonstration
@@ -68,10 +73,19 @@ def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     )
     return (
         f"- Demonstrations: {len(demonstrated)} of {total} runs started with "
-        f"{', '.join(map(str, episodes))} episodes of the task's scripted policy in the replay buffer "
+        f"{', '.join(map(str, episodes))} episodes of "
+        f"{_sources(records)} in the replay buffer "
         f"(their success {min(success):.2f}–{max(success):.2f}); they are not counted in the budget."
         f"{cloning}{learned}{loss}"
     )
+
+
+def _sources(records: list[dict]) -> str:
+    """Where the demonstrations came from: the task's scripted policy, or datasets."""
+    datasets = sorted({d["dataset"] for d in records if d.get("dataset")})
+    scripted = ["the task's scripted policy"] if any(not d.get("dataset") for d in records) else []
+    named = [f"`{d}`" for d in datasets] if len(datasets) < 4 else [f"{len(datasets)} datasets"]
+    return " or ".join(named + scripted)
 
 
 def build_report(
@@ -97,7 +111,7 @@ def build_report(
         "```",
         "",
     ]
-    budgets = sorted({r["steps"] for r in rows})
+    budgets = sorted({(r["steps"], _budget_unit(r)) for r in rows})
     seeds = sorted({r["seed"] for r in rows})
     versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
     demonstrated = [r for r in rows if r.get("demonstrations")]
@@ -105,7 +119,7 @@ def build_report(
     env_kwargs = (yaml.safe_load(grid_file.read_text()) or {}).get("env_kwargs") if grid_file.is_file() else None
     lines += [
         f"- Runs: {len(rows)} finished (rows of `{Path(results).name}`; unfinished runs are never included).",
-        f"- Budget: {', '.join(f'{b:,}' for b in budgets)} environment steps per run.",
+        f"- Budget: {', '.join(f'{b:,} {unit}' for b, unit in budgets)} per run.",
         f"- Seeds: {', '.join(map(str, seeds))}.",
         f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
         f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",

@@ -69,6 +69,8 @@ ALGOS: dict[str, Algo] = {
             her=True,
             buffer="unified_manip.training.crossq:CatDictHerReplayBuffer",
         ),
+        # Behaviour cloning of a dataset (TD3's actor; --steps are gradient steps): unified_manip.training.bc.
+        Algo("bc", "stable_baselines3", "TD3"),
     )
 }
 

@@ -26,14 +26,19 @@ class DemonstrationError(ValueError):
     """Demonstrations were asked of a run that cannot take them."""
 
 
-def check(task_id: str, action_mode: str, off_policy: bool, episodes: int) -> None:
+def check(task_id: str, action_mode: str, off_policy: bool, episodes: int | str) -> None:
     """Raise :class:`DemonstrationError` unless a run can take ``episodes`` demonstrations
     (0: none): an off-policy algorithm (a replay buffer), a task with a scripted policy,
     and an action mode of the shared controllers (which the policy's ``ee_delta`` actions
-    can be translated into)."""
+    can be translated into). A dataset path needs the off-policy algorithm only here."""
     from unified_manip.envs.registry import get_task
     from unified_manip.training.algorithms import ALGOS
 
+    if isinstance(episodes, str):  # a dataset: :mod:`unified_manip.training.dataset_demonstrations` checks it
+        if not off_policy:
+            choices = ", ".join(name for name, algo in ALGOS.items() if algo.off_policy)
+            raise DemonstrationError(f"demonstrations go into a replay buffer; use an off-policy algorithm ({choices})")
+        return
     if episodes < 0:
         raise DemonstrationError(f"demonstrations must be a number of episodes, 0 or more; got {episodes}")
     if episodes == 0:

@@ -39,18 +39,26 @@ def check(bc_steps: int, demonstrations: int) -> None:
         raise PretrainError(f"bc_steps={bc_steps} clones the demonstrations; set demonstrations to 1 or more episodes")
 
 
-def check_settings(task_id: str, action_mode: str, off_policy: bool, run: RunConfig) -> None:
+def check_settings(
+    task_id: str, action_mode: str, off_policy: bool, run: RunConfig, env_config: dict[str, Any] | None = None
+) -> None:
     """Raise a ``ValueError`` unless a run with settings ``run`` can take the
     demonstrations (:func:`unified_manip.training.demonstrations.check`), the cloning it asks for
     (before training, and the loss during it: :func:`unified_manip.training.cloning_loss.check`) and
     the offline steps (:func:`unified_manip.training.offline.check`):
-    what ``train`` and a grid's loading both check before anything starts."""
+    what ``train`` and a grid's loading both check before anything starts. Demonstrations
+    from a dataset must match the run's env keyword arguments ``env_config`` (default: its
+    action mode, sparse reward; :func:`unified_manip.training.dataset_demonstrations.check`)."""
     from unified_manip.training.cloning_loss import check as check_cloning_loss
     from unified_manip.training.demonstrations import check as check_demonstrations
     from unified_manip.training.offline import check as check_offline
 
     episodes = run.demos.demonstrations
     check_demonstrations(task_id, action_mode, off_policy, episodes)
+    if isinstance(episodes, str):
+        from unified_manip.training.dataset_demonstrations import check as check_dataset
+
+        check_dataset(episodes, task_id, env_config or {"action_mode": action_mode, "reward_type": "sparse"})
     check(run.demos.bc_steps, episodes)
     check_offline(run.offline.offline_steps, episodes)
     loss = run.cloning_loss

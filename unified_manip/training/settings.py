@@ -40,6 +40,10 @@ WEIGHT: _Rule = ("a number >= 0", lambda v: _number(v) and math.isfinite(v) and 
 STD: _Rule = ("a number >= 0 or null", lambda v: v is None or WEIGHT[1](v))
 FLAG: _Rule = ("true or false", lambda v: isinstance(v, bool))
 DEVICE: _Rule = (f"one of {', '.join(DEVICES)}", lambda v: v in DEVICES)
+DEMONSTRATIONS: _Rule = (
+    "an integer >= 0 or a dataset path",
+    lambda v: COUNT[1](v) or (isinstance(v, str) and bool(v.strip())),
+)
 
 
 def _setting(default: Any, rule: _Rule) -> Any:
@@ -60,9 +64,10 @@ def _check(config: Any) -> None:
 class DemonstrationConfig:
     """Scripted demonstrations in the replay buffer, and behaviour cloning on them."""
 
-    demonstrations: int = _setting(0, COUNT)
+    demonstrations: int | str = _setting(0, DEMONSTRATIONS)
     """Off-policy: episodes of the task's scripted policy put in the replay buffer before
-    training (0: none; rounded up to whole episodes per env)."""
+    training (0: none; rounded up to whole episodes per env), or the path of a dataset
+    (``unified-manip collect`` or ``convert``) whose episodes are put there instead."""
     bc_steps: int = _setting(0, COUNT)
     """With demonstrations: actor gradient steps of behaviour cloning on them before the
     first rollout (0: none)."""

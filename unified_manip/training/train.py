@@ -82,6 +82,10 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
+    if req.algo == "bc":  # behaviour cloning of a dataset, in gradient steps (unified_manip.training.bc)
+        from unified_manip.training.bc import train_bc
+
+        return train_bc(req, argv, progress, log, threads, lock_wait_s)
     try:
         resolved = resolve_run(req.algo, req.env, req.overrides, action_mode=req.action_mode)
         # The device is where a run executes, not what it is: it stays out of the compared
@@ -98,7 +102,7 @@ def train(
 
     try:
         resolve_vec(req.vec, req.env, n_envs)
-        check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, run)
+        check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, run, req.env_config())
         check_her_warmup(req.algo, resolved.algo_kwargs, run, get_task(req.env).max_episode_steps)
     except ValueError as err:
         raise TrainError(str(err)) from None
@@ -287,15 +291,22 @@ def _demonstrate(model, req: TrainRequest, run: RunConfig, log) -> None:
     from unified_manip.training.demonstrations import SEED_OFFSET, prefill
     from unified_manip.training.pretrain import behaviour_clone, seed_statistics
 
-    # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
-    venv = make_vec_env(req.env, req.env_config(), run.n_envs, req.seed + SEED_OFFSET, None, "dummy")
-    try:
-        done = prefill(model, venv, req.env, req.action_mode, run.demos.demonstrations)
-    finally:
-        venv.close()
+    source = run.demos.demonstrations
+    if isinstance(source, str):  # a dataset's episodes (unified_manip.training.dataset_demonstrations)
+        from unified_manip.training.dataset_demonstrations import prefill as prefill_from_dataset
+
+        done = prefill_from_dataset(model, source, req.env, req.env_config())
+    else:
+        # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
+        venv = make_vec_env(req.env, req.env_config(), run.n_envs, req.seed + SEED_OFFSET, None, "dummy")
+        try:
+            done = prefill(model, venv, req.env, req.action_mode, source)
+        finally:
+            venv.close()
     log(
         f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
         f"{done['success']:.2f} success) in the replay buffer"
+        + (f" from {done['dataset']}" if "dataset" in done else "")
     )
     done.update(demonstration_settings(run))
     bc_steps = run.demos.bc_steps

@@ -1,0 +1,62 @@
+"""``unified-manip collect --all`` (issue 39 item 5) on a tiny subset: one task, two
+episodes per dataset, resumed; a task without a scripted policy or trained run is skipped
+with its reason."""
+
+from __future__ import annotations
+
+import json
+
+import minari
+import pytest
+
+from unified_manip.cli.main import main
+from unified_manip.datasets.catalogue import collect_all, dataset_name, plan
+
+REACH = "UnifiedManip/Arm4Reach-v0"
+
+
+def test_collect_all_writes_every_mode_of_a_task_and_resumes(tmp_path, capsys, monkeypatch):
+    root = tmp_path / "all"
+    args = ["collect", "--all", "--env", REACH, "--episodes", "2", "--out", str(root), "--no-progress"]
+    assert main(args) == 0
+    modes = [m for _, m in plan([REACH])]
+    assert modes[0] == "ee_delta" and len(modes) == 8  # every mode of the arm's shared controllers
+    catalogue = json.loads((root / "catalogue.json").read_text())
+    assert {e["state"] for e in catalogue.values()} == {"written"}
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(root))
+    written = {}
+    for mode in modes:
+        name = dataset_name(REACH, mode)
+        dataset = minari.load_dataset(name)
+        assert dataset.total_episodes == 2
+        assert dataset.storage.metadata["unified_manip"]["env_kwargs"]["action_mode"] == mode
+        written[name] = (root / name / "data" / "main_data.hdf5").stat().st_mtime_ns
+    capsys.readouterr()
+    assert main(args) == 0  # again: everything is there, nothing is redone
+    assert "8 datasets in" in capsys.readouterr().out
+    assert {n: (root / n / "data" / "main_data.hdf5").stat().st_mtime_ns for n in written} == written
+
+
+def test_a_task_without_a_scripted_policy_or_trained_run_is_skipped_with_its_reason(tmp_path):
+    lines: list[str] = []
+    catalogue = collect_all(tmp_path, 2, ["UnifiedManip/HandReach-v0"], trained={}, progress=False, log=lines.append)
+    (entry,) = catalogue.values()
+    assert entry["state"] == "skipped"
+    assert entry["reason"] == (
+        "no scripted policy to collect it and no finished run with a final model under results/ "
+        "(trained models are not committed)"
+    )
+    assert lines == [f"HandReach-v0-trained-v0: skipped ({entry['reason']})"]
+
+
+def test_collect_without_all_still_needs_env_and_episodes(tmp_path, capsys):
+    assert main(["collect", "--env", REACH, "--out", str(tmp_path / "x-v0")]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "unified-manip collect: error: collect needs --env ID and --episodes N (or --all)"
+    )
+
+
+@pytest.mark.parametrize("extra", [["--policy", "random"], ["--action-mode", "joint_delta"]])
+def test_all_refuses_a_policy_or_mode_of_its_own(tmp_path, capsys, extra):
+    assert main(["collect", "--all", "--out", str(tmp_path), *extra]) == 2
+    assert "--all chooses the policies and modes itself" in capsys.readouterr().err

@@ -1,0 +1,41 @@
+"""The small datasets committed under ``datasets/examples/`` (one per family with a
+scripted policy) open, are what their names say, and replay exactly from their states
+with the simulators installed here (the docs' examples use them)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from unified_manip.datasets import store
+from unified_manip.datasets.replay import replay
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "datasets" / "examples"
+#: name -> (task ID, episodes). The Shadow Hand has no scripted policy and no committed trained model.
+EXPECTED = {
+    "arm4-pickandplace-ee_delta-v0": ("UnifiedManip/Arm4PickAndPlace-v0", 3),
+    "fetch-pickandplace-ee_delta-v0": ("UnifiedManip/FetchPickAndPlace-v0", 2),
+    "lift-ee_delta-v0": ("UnifiedManip/Lift-v0", 2),
+}
+
+
+def test_the_examples_are_the_committed_ones_and_small():
+    assert sorted(p.name for p in EXAMPLES.iterdir()) == sorted(EXPECTED)
+    for name in EXPECTED:
+        assert sum(f.stat().st_size for f in (EXAMPLES / name).rglob("*") if f.is_file()) < 400_000
+
+
+@pytest.mark.parametrize("name", EXPECTED)
+def test_an_example_dataset_replays_exactly_from_its_states(name):
+    task_id, episodes = EXPECTED[name]
+    meta = store.metadata(store.open_dataset(EXAMPLES / name))
+    assert (meta["env_id"], meta["env_kwargs"], meta["policy"]) == (
+        task_id,
+        {"action_mode": "ee_delta", "reward_type": "sparse"},
+        "scripted",
+    )
+    report = replay(EXAMPLES / name, progress=False)
+    assert len(report.episodes) == episodes
+    assert report.exact, report.departure()
+    assert all(e.success_recorded and e.success_replayed for e in report.episodes)
