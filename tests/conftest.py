@@ -119,6 +119,28 @@ def _collect_cycles():
         gc.collect()
 
 
+#: The family whose parametrised cases stay in the fast subset (``pytest -m "not slow"``).
+FAST_FAMILY = "arm4"
+
+
+def _slow_family(value) -> bool:
+    """Whether a parametrised value names (or starts with) an ID of another family."""
+    if isinstance(value, (tuple, list)) and value:
+        value = value[0]
+    spec = unified_manip.TASKS.get(value) if isinstance(value, str) else None
+    return spec is not None and spec.family != FAST_FAMILY
+
+
+def pytest_collection_modifyitems(items):
+    """The fast subset runs every parametrised contract on the arm family (MuJoCo only,
+    milliseconds a step); the same cases on Fetch, the Shadow Hand and robosuite carry
+    ``slow``. CI runs them all."""
+    for item in items:
+        callspec = getattr(item, "callspec", None)
+        if callspec is not None and any(_slow_family(v) for v in callspec.params.values()):
+            item.add_marker(pytest.mark.slow)
+
+
 @pytest.fixture(params=ID_MODE_REWARDS, ids=lambda p: "-".join(p).replace("UnifiedManip/", ""))
 def id_mode_reward(request):
     return request.param
