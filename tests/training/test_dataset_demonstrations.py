@@ -162,3 +162,10 @@ def test_the_cli_names_the_convert_command_for_another_mode(dataset, tmp_path):
     assert proc.stderr.count("\n") == 1
     assert f"unified-manip convert {dataset} --action-mode joint_delta --out " in proc.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_a_dataset_path_names_each_task_and_mode():
+    from unified_manip.training.dataset_demonstrations import dataset_path
+
+    path = dataset_path("data/{task}/{action_mode}-v0", "UnifiedManip/Lift-v0", {"action_mode": "joint_delta"})
+    assert path == "data/Lift-v0/joint_delta-v0"

@@ -127,7 +127,11 @@ def _train_owned(req, run: RunConfig, algo_kwargs, config, progress: bool, log, 
                 ) from None
             log(f"{run_dir}: resuming from gradient step {model.num_timesteps} of {req.steps}")
         else:
-            kwargs = {**algo_kwargs, "buffer_size": _rows(dataset_path(source, req.env_config())), "learning_starts": 0}
+            kwargs = {
+                **algo_kwargs,
+                "buffer_size": _rows(dataset_path(source, req.env, req.env_config())),
+                "learning_starts": 0,
+            }
             model = algo.cls()(env=env, seed=req.seed, device=run.device, verbose=0, **kwargs)
         done = prefill(model, source, req.env, req.env_config())
         log(f"{run_dir}: cloning {done['episodes']} episodes ({done['transitions']} transitions) of {done['dataset']}")

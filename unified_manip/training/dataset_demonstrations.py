@@ -26,11 +26,12 @@ import numpy as np
 from unified_manip.training.demonstrations import DemonstrationError
 
 
-def dataset_path(path: str, env_config: dict[str, Any]) -> str:
-    """``path`` with ``{action_mode}`` replaced by the run's action mode: one grid entry
-    (``overrides: {bc: [demonstrations=data/TASK-{action_mode}-v0]}``) then names each
-    mode's own dataset."""
-    return path.replace("{action_mode}", str(env_config.get("action_mode")))
+def dataset_path(path: str, task_id: str, env_config: dict[str, Any]) -> str:
+    """``path`` with ``{task}`` replaced by the run's task (its ID without the namespace,
+    e.g. ``Lift-v0``) and ``{action_mode}`` by its action mode: one grid entry
+    (``overrides: {bc: [demonstrations=data/{task}/{action_mode}-v0]}``) then names each
+    task's and mode's own dataset."""
+    return path.replace("{task}", task_id.split("/")[-1]).replace("{action_mode}", str(env_config.get("action_mode")))
 
 
 def _dataset(path: str):
@@ -55,10 +56,10 @@ def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]
     """Raise :class:`DemonstrationError` unless the dataset at ``path`` was recorded on
     ``task_id`` with the env keyword arguments ``env_config`` (the run's ``action_mode``,
     ``reward_type`` and extras); return its metadata (``unified_manip``'s). ``path`` may
-    hold ``{action_mode}`` (:func:`dataset_path`)."""
+    hold ``{task}`` and ``{action_mode}`` (:func:`dataset_path`)."""
     from unified_manip.envs.observations import observation_label
 
-    path = dataset_path(path, env_config)
+    path = dataset_path(path, task_id, env_config)
     _, meta = _dataset(path)
     if meta["env_id"] != task_id:
         raise DemonstrationError(
@@ -103,7 +104,7 @@ def prefill(model, path: str, task_id: str, env_config: dict[str, Any]) -> dict[
     Returns ``{"episodes", "transitions", "success", "dataset", "dataset_episodes"}``.
     """
     meta = check(path, task_id, env_config)
-    path = dataset_path(path, env_config)
+    path = dataset_path(path, task_id, env_config)
     dataset, _ = _dataset(path)
     buffer = model.replay_buffer
     n_envs = buffer.n_envs
