@@ -17,7 +17,7 @@ from unified_manip.envs.cameras import FAST, FULL, ImageSensor, RenderSettings
 
 #: One ID of each family, with a camera other than its default where it has one.
 FAMILIES = (
-    ("UnifiedManip/Arm4Push-v0", None),
+    ("UnifiedManip/Arm4Push-v0", "wrist"),
     ("UnifiedManip/FetchPush-v0", "external_camera_0"),
     ("UnifiedManip/Lift-v0", None),
     ("UnifiedManip/HandReach-v0", None),
