@@ -93,3 +93,17 @@ def test_cli_refuses_a_bad_image_size(tmp_path, size):
 def test_depth_space_is_in_metres():
     env = gym.make(REACH, observation=["joint_pos", "depth"], image_size=40)
     assert env.observation_space["depth"].low.min() == 0.0 and np.isinf(env.observation_space["depth"].high).all()
+
+
+def test_a_grid_takes_an_image_design(tmp_path):
+    import yaml
+
+    from unified_manip.experiments.grid import load_grid
+
+    doc = {"name": "pixels", "tasks": [REACH], "action_modes": ["ee_delta"], "reward_types": ["sparse"],
+           "algos": ["sac_her"], "seeds": [0], "steps": 200, "observations": [["joint_pos", "rgb"]]}  # fmt: skip
+    path = tmp_path / "grid.yaml"
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    [run] = load_grid(path).runs
+    assert run.name == "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-joint_pos+rgb__s0"
+    assert run.env_kwargs == {"observation": ["joint_pos", "rgb"]}
