@@ -29,7 +29,7 @@ def test_sac_her_trains_on_rgb_and_joint_pos_then_evaluates(tmp_path):
     from stable_baselines3.common.save_util import load_from_zip_file
 
     run_dir = tmp_path / "run"
-    sets = ["learning_starts=100", "batch_size=16", "policy_kwargs.net_arch=[16,16]", "eval_freq=250",
+    sets = ["learning_starts=100", "batch_size=16", "policy_kwargs.net_arch=[16,16]", "eval_freq=500", "n_eval_episodes=2",
             "buffer_size=1000"]  # fmt: skip
     args = ["train", "--env", REACH, "--action-mode", "ee_delta", "--algo", "sac_her", "--steps", "500"]
     proc = cli(*args, "--run-dir", str(run_dir), "--observation", "rgb,joint_pos", "--env-kwarg", "image_size=40",
