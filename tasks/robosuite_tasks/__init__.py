@@ -19,13 +19,14 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
   backend pickles as its config, the reset seed and goal of the current episode and
   the actions played since; unpickling rebuilds the env and replays them, which is
   exact because the rollouts are deterministic (and costs one step per step replayed).
-* **Rendering** (``render_mode="rgb_array"``, and the ``image`` observation with
-  ``camera_obs=True``) uses the shared :class:`unified_manip.envs.rendering.Renderer` on
-  robosuite's model and data (``MUJOCO_GL=egl`` headless), from robosuite's
-  ``frontview`` and ``agentview`` cameras, with the collision geoms (group 0) hidden
-  as robosuite's own renderer does.
+* **Rendering** (``render_mode="rgb_array"``) uses the shared
+  :class:`unified_manip.envs.rendering.Renderer` on robosuite's model and data
+  (``MUJOCO_GL=egl`` headless), from robosuite's ``frontview`` camera; image
+  observations (``observation=[..., "rgb"]``) use the cameras of :mod:`.cameras`
+  (``agentview`` by default). Both hide the collision geoms (group 0) as robosuite's
+  own renderer does.
 
-Modules: :mod:`.options` (the ``robot`` and camera options), :mod:`.suite`
+Modules: :mod:`.options` (the ``robot`` option), :mod:`.cameras` (the image cameras), :mod:`.suite`
 (``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` (how each
 env becomes a goal task), :mod:`.backend`, :mod:`.policies`, :mod:`.docs`,
 :mod:`.specs`. Their names can also be imported from this package

@@ -15,18 +15,17 @@ from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import IKJoints
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
-from unified_manip.envs.rendering import Renderer, SceneOptions
+from unified_manip.envs.rendering import Renderer
+from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
 from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
 from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
 from unified_manip.envs.tasks.robosuite_tasks.suite import UNLIMITED_RANGE, make_upstream
 
-#: How robosuite scenes are drawn: robosuite's ``frontview`` camera for frames and its
-#: ``agentview`` camera for the ``image`` observation, without the collision geoms
-#: (group 0; robosuite's own renderer hides them too, and shows the visual meshes).
-SCENE = SceneOptions(camera="frontview", hidden_geom_groups=(0,))
-CAMERA_SCENE = SceneOptions(camera="agentview", hidden_geom_groups=(0,))
+#: How robosuite scenes are drawn: robosuite's ``frontview`` camera, without the collision
+#: geoms (group 0; robosuite's own renderer hides them too, and shows the visual meshes).
+SCENE = CAMERAS["frontview"].scene
 
 #: The grasp check runs only while the grip site is this close to the object, m.
 GRASP_CHECK_RADIUS = 0.08
@@ -73,7 +72,6 @@ class RobosuiteBackend(Backend):
         self._episode: tuple[int, np.ndarray] | None = None
         self._log: list[np.ndarray | None] = []
         self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
-        self._camera = Renderer("rgb_array", self.options["camera_width"], self.options["camera_height"], CAMERA_SCENE)
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:
@@ -144,18 +142,12 @@ class RobosuiteBackend(Backend):
     def extra_info(self) -> dict[str, Any]:
         return {"native_success": float(self._up._check_success()), "native_reward": float(self._reward)}
 
-    def extra_observations(self) -> dict[str, np.ndarray]:
-        if not self.options["camera_obs"]:
-            return {}
-        return {"image": self._camera.render(self.model, self.data)}
-
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:
         return self._renderer.render(self.model, self.data)
 
     def close(self) -> None:
         self._renderer.close()
-        self._camera.close()
 
     # -------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:

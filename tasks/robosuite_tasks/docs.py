@@ -6,9 +6,11 @@ from unified_manip.envs.controllers.docs import modes_section
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 
 _OPTIONS = """Options: ``robot`` (default "Panda"; also "Sawyer", "UR5e", "IIWA", "Kinova3",
-"Jaco"), ``camera_obs`` (default False: adds an ``image`` key, agentview RGB uint8 of
-``camera_height`` x ``camera_width``, default 84 x 84), ``camera_width``,
-``camera_height``. Unknown options raise TypeError, unknown robots ValueError."""
+"Jaco"). Unknown options raise TypeError, unknown robots ValueError. Camera images are
+the ``rgb`` and ``depth`` observation groups of every family (``camera=``: agentview
+(default), frontview, birdview, sideview, robot0_robotview, robot0_eye_in_hand); the
+old ``camera_obs``, ``camera_width`` and ``camera_height`` options raise TypeError
+naming them."""
 
 _MODES = f"""Action modes (action in [-1, 1]; n = the robot's arm joints, 7 on Panda; in every
 mode but native the last entry commands the gripper, -1 closed, +1 open, and the ee
@@ -32,8 +34,9 @@ _INFO = """Info adds ``native_success`` (1.0/0.0, robosuite's ``_check_success()
 ``native_reward`` (robosuite's own sparse reward for the step)."""
 
 _HISTORY = """Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz). Since issue 11,
-rendered frames and the camera_obs image hide the collision geoms (group 0), as
-robosuite's renderer does; observations (low-dim), rewards and infos are unchanged."""
+rendered frames and camera images hide the collision geoms (group 0), as robosuite's
+renderer does; observations (low-dim), rewards and infos are unchanged. Since issue 41,
+``camera_obs=True`` (an ``image`` key) is ``observation=['default', 'rgb']``."""
 
 LIFT_DOC = f"""Lift: pick up a cube (2 cm half-size) and hold it at a goal point above the table
 (robosuite Lift).

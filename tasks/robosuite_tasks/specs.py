@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
+from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
@@ -32,6 +33,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_policy=EEDeltaPolicy("robosuite", policy) if policy else None,
         scripted_min_success=min_success,
         render_fps=20,
+        cameras=CAMERAS,
         scripted_episodes=SCRIPTED_EPISODES,
         stability_steps=STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",

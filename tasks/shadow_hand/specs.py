@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec, euclidean
+from unified_manip.envs.tasks.shadow_hand.cameras import CAMERAS
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
 from unified_manip.envs.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
@@ -27,6 +28,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         doc=doc,
         goal_distance=distance,
         render_fps=25,
+        cameras=CAMERAS,
         stability_steps=STABILITY_STEPS,
         upstream_id=upstream_id,
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),

@@ -24,9 +24,8 @@ def test_robosuite_frames_hide_the_collision_geoms():
         render_mode="rgb_array",
         render_width=160,
         render_height=160,
-        camera_obs=True,
-        camera_width=96,
-        camera_height=96,
+        observation=["default", "rgb"],
+        image_size=96,
     )
     obs, _ = env.reset(seed=0)
     backend = env.unwrapped._backend
@@ -37,7 +36,7 @@ def test_robosuite_frames_hide_the_collision_geoms():
     frame = env.render()
     assert frame.shape == (160, 160, 3) and frame.std() > 5.0
     assert _collision_green(frame) == 0
-    assert _collision_green(obs["image"]) == 0  # the camera observation too
+    assert _collision_green(obs["rgb"]) == 0  # the camera observation too
     env.close()
 
 

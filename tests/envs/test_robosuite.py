@@ -106,19 +106,24 @@ def test_options_are_validated():
     )
     with pytest.raises(TypeError, match=r"unknown options \['colour'\]"):
         gym.make("UnifiedManip/Lift-v0", colour="red")
-    with pytest.raises(TypeError, match="camera_obs must be a bool"):
-        gym.make("UnifiedManip/Lift-v0", camera_obs=1)
+    for old in ("camera_obs", "camera_width", "camera_height"):
+        with pytest.raises(TypeError) as err:
+            gym.make("UnifiedManip/Lift-v0", **{old: True})
+        assert str(err.value).startswith(  # gymnasium appends where a TypeError came from
+            f"{old} was replaced by the image groups of every family: "
+            "observation=['default', 'rgb'] with camera='agentview' and image_size=84"
+        )
 
 
-def test_camera_obs_image_passes_checkers():
+def test_camera_image_passes_checkers():
     from gymnasium.utils.env_checker import check_env
     from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
-    env = gym.make("UnifiedManip/Lift-v0", action_mode="ee_delta", camera_obs=True)
-    space = env.observation_space["image"]
+    env = gym.make("UnifiedManip/Lift-v0", action_mode="ee_delta", observation=["default", "rgb"])
+    space = env.observation_space["rgb"]
     assert space.shape == (84, 84, 3) and space.dtype == np.uint8
     obs, _ = env.reset(seed=0)
-    assert obs["image"].dtype == np.uint8 and obs["image"].std() > 5.0
+    assert obs["rgb"].dtype == np.uint8 and obs["rgb"].std() > 5.0
     obs, *_ = env.step(env.action_space.sample())
     assert env.observation_space.contains(obs)
     check_env(env.unwrapped, skip_render_check=True)

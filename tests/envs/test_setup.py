@@ -26,10 +26,12 @@ FIELD_VALUES = {
     "reward_config": RewardConfig(scales=RewardScales(success=3.0), distance_gain=2.0),
     "reward_spec": make_reward_spec("dense_penalized", "grasp", RewardConfig(distance_gain=7.0)),
     "controller_options": {"step": 0.03},
-    "observation": "relative",
+    "observation": ["relative", "rgb", "depth"],
     "observation_distractors": 2,
     "observation_noise": 0.01,
     "observation_delay": 1,
+    "camera": "front",
+    "image_size": 24,
 }
 
 #: One ID of every family with a native vector env.

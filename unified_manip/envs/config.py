@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any, Mapping
 
+from unified_manip.envs.cameras import DEFAULT_IMAGE_SIZE, split_images, validate_image_size
 from unified_manip.envs.observations import validate_count, validate_noise
 from unified_manip.envs.rewards import RewardConfig, RewardSpec, make_reward_spec, validate_reward_type
 
@@ -72,6 +73,10 @@ class EnvConfig:
             every entry, or a mapping of group names to stds (in the groups' units).
         observation_delay: ``observation`` is the one of this many steps earlier; the
             first steps of an episode repeat the reset observation. Goals stay exact.
+        camera: The camera of the ``rgb`` and ``depth`` image groups: one the task names
+            (``TaskSpec.cameras``), or ``None`` for its first
+            (:mod:`unified_manip.envs.cameras`).
+        image_size: Side of the square ``rgb`` and ``depth`` images, pixels.
     """
 
     action_mode: str = "native"
@@ -88,6 +93,8 @@ class EnvConfig:
     observation_distractors: int = 0
     observation_noise: float | Mapping[str, float] = 0.0
     observation_delay: int = 0
+    camera: str | None = None
+    image_size: int = DEFAULT_IMAGE_SIZE
 
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
@@ -119,6 +126,10 @@ class EnvConfig:
             object.__setattr__(self, "observation", tuple(self.observation))
         elif not isinstance(self.observation, str):
             raise TypeError(f"observation must be a preset name or a list of group names, got {self.observation!r}")
+        split_images(self.observation)
+        validate_image_size(self.image_size)
+        if self.camera is not None and not isinstance(self.camera, str):
+            raise TypeError(f"camera must be a camera's name or None, got {self.camera!r}")
         validate_count("observation_distractors", self.observation_distractors)
         validate_count("observation_delay", self.observation_delay)
         validate_noise(self.observation_noise)

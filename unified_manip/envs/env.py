@@ -9,6 +9,7 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
+from unified_manip.envs.cameras import image_sensor, observation_box
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
@@ -41,10 +42,14 @@ class UnifiedManipEnv(GoalEnv):
         observation_distractors: Task-irrelevant random-walk features appended, seeded.
         observation_noise: Gaussian std added to ``observation`` (one, or per group), seeded.
         observation_delay: ``observation`` of this many steps earlier (goals stay exact).
+        camera: The camera of the ``"rgb"`` / ``"depth"`` image groups (the task's first if None).
+        image_size: Side of the square images in pixels (84).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
-        ``Dict(observation, achieved_goal, desired_goal)``, all float32 ``Box``.
+        ``Dict(observation, achieved_goal, desired_goal)``, all float32 ``Box``, plus
+        ``rgb`` (uint8 H x W x 3) and ``depth`` (float32 metres, H x W x 1) when the
+        observation design names those image groups.
 
     Info (at reset and on every step):
         ``is_success`` (1.0 / 0.0), ``grip_to_object``, ``grasped``, ``dropped``,
@@ -69,18 +74,12 @@ class UnifiedManipEnv(GoalEnv):
         # Size the spaces from one reset of the backend with a throwaway generator.
         self._backend.reset(np.random.default_rng(0))
         self._stream = build_stream(self.config, self._backend, self.task.id)
+        self._images = image_sensor(self.config, self.task.cameras, self.task.id)
         obs = self._read()
         obs["observation"] = self._stream.start(obs["observation"], np.random.default_rng(0))
         n = self._backend.action_dim
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
-        self.observation_space = spaces.Dict(
-            {
-                key: spaces.Box(-np.inf, np.inf, shape=v.shape, dtype=np.float32)
-                if v.dtype == np.float32
-                else spaces.Box(0, 255, shape=v.shape, dtype=np.uint8)
-                for key, v in obs.items()
-            }
-        )
+        self.observation_space = spaces.Dict({key: observation_box(key, v) for key, v in obs.items()})
         self._action_shape = (n,)
         self._action_rule = (
             f"action must have shape {(n,)} for {self.task.id} with action_mode={self.config.action_mode!r}"
@@ -160,6 +159,8 @@ class UnifiedManipEnv(GoalEnv):
 
     def close(self) -> None:
         self._backend.close()
+        if self._images is not None:
+            self._images.close()
 
     @property
     def observation_layout(self) -> dict[str, slice]:
@@ -237,6 +238,8 @@ class UnifiedManipEnv(GoalEnv):
             "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
         }
         obs.update(b.extra_observations())
+        if self._images is not None:
+            obs.update(self._images.read(b.model, b.data))
         return obs
 
     def _success(self, obs: dict[str, np.ndarray]) -> float:

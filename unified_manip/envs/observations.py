@@ -19,6 +19,8 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
+from unified_manip.envs.cameras import split_images
+
 #: Group names that mean the same quantity on every family that has it.
 SHARED_GROUPS: tuple[str, ...] = (
     "joint_pos",
@@ -117,9 +119,12 @@ def resolve_groups(
         if observation == "minimal":
             return tuple(minimal)
         return (*minimal, *(name for name in RELATIVE_PRESET_GROUPS if name in groups))
-    names = tuple(observation)
-    if not names or not all(isinstance(n, str) for n in names):
+    if not observation or not all(isinstance(n, str) for n in observation):
         raise ValueError(f"observation must be a preset or a non-empty list of group names, got {observation!r}")
+    # In a list, a preset stands for its groups (``["default", "rgb"]``).
+    names = tuple(
+        g for n in observation for g in (resolve_groups(n, groups, default, task_id) if n in PRESETS else (n,))
+    )
     for name in names:
         if name not in groups:
             if name in SHARED_GROUPS:
@@ -247,7 +252,7 @@ def build_stream(config: Any, backend: Any, task_id: str) -> ObservationStream:
     (reset once, so that the groups can be sized)."""
     groups = backend.observation_groups()
     default = tuple(backend.default_observation())
-    names = resolve_groups(config.observation, groups, default, task_id)
+    names = resolve_groups(split_images(config.observation)[0], groups, default, task_id)
     sizes = {n: int(np.asarray(groups[n].read(backend)).size) for n in names}
     return ObservationStream(
         names,

@@ -8,12 +8,13 @@ A task module calls :func:`register_task` at import time. That adds the spec to
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable, Mapping
 
 import gymnasium as gym
 import numpy as np
 
+from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.rewards import SHAPINGS
@@ -65,6 +66,8 @@ class TaskSpec:
             side by side; ``None`` for tasks defined here.
         make_upstream: Builds that env for the benchmarks (anything with ``reset()``
             and ``step(action)``); ``None`` means ``gym.make(upstream_id)``.
+        cameras: The cameras of image observations (``camera=``), by name, the default
+            first (:mod:`unified_manip.envs.cameras`); the family declares them once.
     """
 
     name: str
@@ -85,6 +88,7 @@ class TaskSpec:
     stability_steps: int = 10_000
     upstream_id: str | None = None
     make_upstream: Callable[[], object] | None = None
+    cameras: Mapping[str, CameraConfig] = field(default_factory=dict)
 
     def build_upstream(self):
         """The wrapped upstream env, for side-by-side benchmarks."""
@@ -103,6 +107,9 @@ class TaskSpec:
         bad = [m for m, c in self.controllers.items() if not isinstance(c, ControllerConfig)]
         if bad:
             raise TypeError(f"{self.name}: the controllers of {bad} are not ControllerConfig instances")
+        bad = [name for name, c in self.cameras.items() if not isinstance(c, CameraConfig)]
+        if bad:
+            raise TypeError(f"{self.name}: the cameras {bad} are not CameraConfig instances")
         if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
             raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
 

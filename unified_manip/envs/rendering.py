@@ -50,7 +50,7 @@ class SceneOptions:
 #: its context during interpreter teardown, after MuJoCo's own exit handler has
 #: terminated the EGL display (two ``Exception ignored ... EGLError`` tracebacks); they
 #: are closed at exit instead, by a handler registered after MuJoCo's, so run before it.
-_OPEN: weakref.WeakSet[Renderer] = weakref.WeakSet()
+_OPEN: weakref.WeakSet[Any] = weakref.WeakSet()
 _AT_EXIT: list[bool] = []
 
 
@@ -59,7 +59,12 @@ def _close_open_renderers() -> None:
         renderer.close()
 
 
-def _track(renderer: Renderer) -> None:
+def track(renderer: Any, add: bool = True) -> None:
+    """Close ``renderer`` (anything with ``close()`` holding a GL context) at exit, before
+    MuJoCo's own exit handler; ``add=False`` forgets it (it was closed)."""
+    if not add:
+        _OPEN.discard(renderer)
+        return
     if not _AT_EXIT:
         atexit.register(_close_open_renderers)  # exit handlers run last-registered first
         _AT_EXIT.append(True)
@@ -86,7 +91,7 @@ class Renderer:
         after drawing in the window (``human``)."""
         if self._renderer is None:
             self._renderer, self._viewer = self._build(model, data)
-            _track(self)
+            track(self)
         # Another renderer in this process (another env, a camera observation) may have
         # made its own GL context current since the last frame.
         self._viewer.make_context_current()

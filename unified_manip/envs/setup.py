@@ -13,6 +13,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from unified_manip.envs.cameras import resolve_camera
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.registry import TaskSpec, get_task
@@ -51,12 +52,14 @@ def env_setup(task_id: str, **kwargs: Any) -> EnvSetup:
         **kwargs: :data:`CONFIG_FIELDS` by name; anything else goes to the family as an option.
 
     Raises:
-        ValueError: An unknown ID, action mode, reward type or controller option, or a mode
-            the task does not support (each with the valid choices).
+        ValueError: An unknown ID, action mode, reward type, controller option or camera,
+            or a mode the task does not support (each with the valid choices).
         TypeError: A field of the wrong type.
     """
     task = get_task(task_id)
     fields = {k: kwargs.pop(k) for k in CONFIG_FIELDS if k in kwargs}
     config = EnvConfig(**fields, options=kwargs)
     config.require_supported(task.id, task.action_modes)
+    if config.camera is not None:
+        resolve_camera(config.camera, task.cameras, task.id)
     return EnvSetup(task, config, config.mode_config(task.controllers))

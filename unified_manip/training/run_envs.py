@@ -82,11 +82,19 @@ def eval_env(req: TrainRequest, n_envs: int):
     return env
 
 
-def model_kwargs(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, action_dim: int) -> dict[str, Any]:
-    """The algorithm's keyword arguments: ``algo_kwargs``, plus the HER replay buffer and
-    TD3's action noise (``run.action_noise_std``)."""
+def model_kwargs(
+    algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, action_dim: int, observation_space: Any = None
+) -> dict[str, Any]:
+    """The algorithm's keyword arguments: ``algo_kwargs``, plus the HER replay buffer,
+    TD3's action noise (``run.action_noise_std``) and, for an ``observation_space`` with
+    image keys, a CNN per image key (:class:`~unified_manip.training.images.ImageExtractor`)."""
     algo = get_algo(algo_name)
     kwargs = dict(algo_kwargs)
+    if observation_space is not None:
+        from unified_manip.training.images import has_images, with_image_extractor
+
+        if has_images(observation_space):
+            kwargs["policy_kwargs"] = with_image_extractor(kwargs.get("policy_kwargs"))
     if algo.her:
         kwargs["replay_buffer_class"] = algo.buffer_cls()
     if run.action_noise_std is not None:
@@ -106,12 +114,20 @@ def normalized(venv, run: RunConfig, stats: Path | None, training: bool, gamma: 
     """
     if not run.normalize:
         return venv
-    from stable_baselines3.common.vec_env import VecNormalize
+    from stable_baselines3.common.vec_env import VecNormalize, VecTransposeImage
 
+    parts = getattr(venv.observation_space, "spaces", None)
+    images = [k for k, s in parts.items() if len(s.shape) == 3] if parts is not None else []
+    if images:
+        # SB3 would put its channels-first transposition outside VecNormalize, whose
+        # original observations (the ones the replay buffer stores) would stay channels-last.
+        venv = VecTransposeImage(venv)
     if stats is not None:
         venv = VecNormalize.load(str(stats), venv)
     else:
-        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=gamma)
+        # Images are scaled by the policy (uint8 / 255), not by running statistics.
+        keys = [k for k in parts if k not in images] if parts is not None else None
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=gamma, norm_obs_keys=keys)
     venv.training = training
     venv.norm_reward = False
     return venv

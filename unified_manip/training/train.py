@@ -146,6 +146,8 @@ def _train_owned(
     # EvalCallback copies the training statistics into the eval env before each evaluation.
     # It is made first: env keyword arguments the task refuses end here, before any file.
     eval_env = _normalized(make_eval_env(req, n_envs), run, None, training=False, gamma=gamma)
+    if algo.off_policy:  # an image buffer can need more memory than the machine has: refuse it now
+        _check_buffer(eval_env, algo_kwargs, algo.her)
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
@@ -211,7 +213,7 @@ def _train_owned(
                 device=device,
                 tensorboard_log=str(run_dir / "tb"),
                 verbose=0,
-                **_model_kwargs(req.algo, algo_kwargs, run, env.action_space.shape[0]),
+                **_model_kwargs(req.algo, algo_kwargs, run, env.action_space.shape[0], env.observation_space),
             )
             if run.demos.demonstrations:
                 _demonstrate(model, req, run, log)
@@ -269,6 +271,17 @@ def _train_owned(
         signal.signal(signal.SIGINT, previous_int)
         raw_env.close()
         eval_env.close()
+
+
+def _check_buffer(env, algo_kwargs: dict[str, Any], her: bool) -> None:
+    from unified_manip.training.images import SB3_BUFFER_SIZE, check_buffer_fits
+
+    size = int(algo_kwargs.get("buffer_size", SB3_BUFFER_SIZE))
+    try:
+        check_buffer_fits(env.observation_space, env.action_space.shape[0], size, her)
+    except ValueError as err:
+        env.close()
+        raise TrainError(str(err)) from None
 
 
 def _default_threads() -> int:

@@ -18,6 +18,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from unified_manip.envs.cameras import image_sensor, observation_box
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.observations import build_stream, reattach
@@ -67,17 +68,14 @@ class NativeVectorEnv(VectorEnv):
         self._batched = batched
         self._streams = [build_stream(config, batched.backend(i), self._task_id) for i in range(n)]
         self._exact = self._streams[0].exact
+        # One camera per env (each env's model holds its own goal marker), drawn in this
+        # thread: a GL context is current in one thread at a time.
+        sensors = [image_sensor(config, self.task.cameras, self._task_id) for _ in range(n)]
+        self._images = sensors if sensors[0] is not None else None
         obs = self._raw(batched.observations())
         throwaway = np.random.default_rng(0)
         obs["observation"] = np.stack([s.start(obs["observation"][i], throwaway) for i, s in enumerate(self._streams)])
-        self.single_observation_space = spaces.Dict(
-            {
-                key: spaces.Box(-np.inf, np.inf, shape=v.shape[1:], dtype=np.float32)
-                if v.dtype == np.float32
-                else spaces.Box(0, 255, shape=v.shape[1:], dtype=np.uint8)
-                for key, v in obs.items()
-            }
-        )
+        self.single_observation_space = spaces.Dict({key: observation_box(key, v[0]) for key, v in obs.items()})
         self.single_action_space = spaces.Box(-1.0, 1.0, shape=(batched.action_dim,), dtype=np.float32)
         self.observation_space = batch_space(self.single_observation_space, n)
         self.action_space = batch_space(self.single_action_space, n)
@@ -222,6 +220,8 @@ class NativeVectorEnv(VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         self._batched.close()
+        for sensor in self._images or ():
+            sensor.close()
 
     # ------------------------------------------------------------------ GoalEnv API, batched
     def compute_reward(self, achieved_goal, desired_goal, info) -> np.ndarray:
@@ -260,9 +260,17 @@ class NativeVectorEnv(VectorEnv):
 
     def _raw(self, obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """``obs`` with ``observation`` holding the design's groups of every env, before
-        the sensor model (the batched backend's own vector where the design is the default)."""
+        the sensor model (the batched backend's own vector where the design is the default),
+        and the design's images of every env."""
         if not self._exact:
             obs["observation"] = np.stack([s.raw(self._batched.backend(i)) for i, s in enumerate(self._streams)])
+        if self._images is not None:
+            frames = [
+                s.read(self._batched.backend(i).model, self._batched.backend(i).data)
+                for i, s in enumerate(self._images)
+            ]
+            for key in frames[0]:
+                obs[key] = np.stack([f[key] for f in frames])
         return obs
 
     def _sense(
