@@ -22,6 +22,10 @@ def test_readme_is_a_landing_page_of_at_most_12_kb():
     assert size <= README_LIMIT, f"README.md is {size} bytes; move detail into docs/"
 
 
+# One worker builds the site (minutes) for every test that reads it.
+pytestmark = pytest.mark.xdist_group("docs")
+
+
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("site")
@@ -37,6 +41,7 @@ def site(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_every_registered_task_has_a_page_with_its_frame_and_modes(site):
     for task_id, spec in unified_manip.TASKS.items():
         name = task_id.split("/", 1)[1]
@@ -47,6 +52,7 @@ def test_every_registered_task_has_a_page_with_its_frame_and_modes(site):
             assert f"<code>{mode}</code>" in page, (name, mode)
 
 
+@pytest.mark.slow
 def test_the_command_reference_lists_every_subcommand(site):
     from unified_manip.cli.main import build_parser
 
@@ -56,6 +62,7 @@ def test_the_command_reference_lists_every_subcommand(site):
         assert f'id="{name}"' in page, name
 
 
+@pytest.mark.slow
 def test_the_api_reference_is_rendered_from_the_docstrings(site):
     page = (site / "reference" / "api" / "envs" / "index.html").read_text()
     assert "EnvConfig" in page and "UnifiedManipEnv" in page and "doc-heading" in page

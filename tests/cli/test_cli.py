@@ -10,6 +10,7 @@ from pathlib import Path
 
 import gymnasium as gym
 import imageio.v3 as iio
+import pytest
 
 import unified_manip
 
@@ -75,6 +76,7 @@ def test_speed_reports_env_and_raw_rates(tmp_path):
         assert r["ratio_to_raw"] == r["env_steps_per_s"] / r["raw_steps_per_s"]
 
 
+@pytest.mark.slow
 def test_demo_writes_a_picture_strip(tmp_path):
     out = tmp_path / "strip.png"
     proc = run("demo", "--out", str(out), "--frames", "3", "--size", "64", "--no-progress")

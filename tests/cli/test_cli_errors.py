@@ -253,6 +253,7 @@ def test_cli_error_is_one_line_exit_2(case, tmp_path, capsys, baselines_dir):
     assert not (tmp_path / "r").exists()  # a refused train leaves no run directory behind
 
 
+@pytest.mark.slow
 def test_eval_of_a_normalize_run_without_its_statistics(tmp_path, capsys):
     import gymnasium as gym
     from stable_baselines3 import SAC

@@ -215,6 +215,7 @@ ONE_PER_FAMILY = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task_id", ONE_PER_FAMILY)
 def test_subproc_vec_env_of_two(task_id):
     from stable_baselines3.common.env_util import make_vec_env
@@ -329,6 +330,7 @@ def test_diverged_physics_truncates_with_flag():
     assert not truncated and info["sim_unstable"] is False
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task_id,mode", ID_MODES, ids=lambda p: str(p).replace("UnifiedManip/", ""))
 def test_random_steps_stay_stable(task_id, mode):
     """``TaskSpec.stability_steps`` random steps (10,000 unless the task sets fewer)."""

@@ -17,7 +17,8 @@ from conftest import ID_MODE_REWARDS
 from golden import check_portable, feed, hashes_in_child, key, load
 
 STORED = load()
-pytestmark = pytest.mark.xdist_group("golden")
+# The rollouts take minutes: slow, and one xdist group.
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("golden")]
 
 
 @pytest.fixture(scope="session")

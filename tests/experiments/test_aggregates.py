@@ -121,6 +121,7 @@ def test_mode_scores_keep_modes_run_on_every_task_and_the_same_runs_per_task(tmp
     assert s.steps["ee_delta"][1] == [500, 500, 500] and s.auc["ee_delta"][0, 1] == pytest.approx(0.9)
 
 
+@pytest.mark.slow
 def test_a_multi_task_report_writes_the_aggregate_sections_and_figures(tmp_path):
     bench = tmp_path / "bench"
     bench.mkdir()

@@ -67,6 +67,7 @@ def _check_complete(out: Path, expected_runs: int) -> list[dict]:
 
 
 # ---------------------------------------------------------------------- executors
+@pytest.mark.slow
 def test_local_executor_runs_a_2x2_grid(tmp_path):
     grid = load_grid(write_grid(tmp_path, TINY))
     assert len(grid.runs) == 4
@@ -102,6 +103,7 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
     )
 
 
+@pytest.mark.slow
 def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
     # In its own process, as users run it: Ray's head is forked from a small CLI process,
     # never from a test worker that has grown over the whole suite.
@@ -131,6 +133,7 @@ def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
     _check_complete(out, 4)
 
 
+@pytest.mark.slow
 def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path):
     doc = dict(TINY, seeds=[0])
     grid = load_grid(write_grid(tmp_path, doc))
@@ -147,6 +150,7 @@ def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path
     assert [r["run"] for r in read_results(out / "results.csv")] == [grid.runs[1].name]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["kill", "ctrl-c"])
 def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_path):
     grid_path = write_grid(tmp_path, dict(TINY, steps=200))
@@ -288,6 +292,7 @@ def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, three)).runs} == {3}
 
 
+@pytest.mark.slow
 def test_a_grids_env_kwargs_reach_every_run_its_config_and_its_report(tmp_path):
     """The zoo's env_kwargs: here a controller option, recorded in config.yaml (so resume
     compares it and eval rebuilds the same env) and stated in the report."""
@@ -317,6 +322,7 @@ def test_a_grids_env_kwargs_reach_every_run_its_config_and_its_report(tmp_path):
     )
 
 
+@pytest.mark.slow
 def test_committed_grids_are_valid():
     for path in sorted((ROOT / "baselines" / "grids").glob("*.yaml")):
         grid = load_grid(path)

@@ -34,6 +34,9 @@ from unified_manip.experiments.results import read_results
 from unified_manip.training import checkpoints
 from unified_manip.training.runlock import read_owner
 
+# Each test trains, kills or resumes real runs (7-14 s each).
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 TASK = "UnifiedManip/Arm4Reach-v0"
 NO_LEARNING = ["learning_starts=100000", "buffer_size=5000", "policy_kwargs.net_arch=[16,16]", "checkpoint_freq=200"]

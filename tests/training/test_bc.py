@@ -82,6 +82,7 @@ def test_a_200_step_bc_run_is_evaluated_resumed_and_recorded_in_gradient_steps(t
     assert not (run / "checkpoints").exists()
 
 
+@pytest.mark.slow
 def test_bc_runs_in_a_bench_grid_and_loads_in_report(tmp_path):
     from unified_manip.experiments.bench import run_grid
     from unified_manip.experiments.grid import load_grid

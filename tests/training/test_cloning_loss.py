@@ -116,6 +116,7 @@ def test_the_sampled_loss_needs_a_stochastic_actor():
         attach(model, model.replay_buffer.size(), steps=100, weight=1.0, sampled=True)
 
 
+@pytest.mark.slow
 def test_a_resumed_run_keeps_the_loss(tmp_path):
     """SB3 writes its training log every 4 episodes: at step 200 here, after the resume at
     100, so the loss in the log was computed by a hook the resumed run attached."""

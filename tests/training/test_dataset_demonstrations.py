@@ -51,6 +51,7 @@ def _model(n_envs: int):
     )
 
 
+@pytest.mark.slow
 def test_a_scripted_dataset_fills_the_buffer_exactly_as_the_live_prefill(dataset):
     from unified_manip.training.run_envs import make_vec_env
 
@@ -113,6 +114,7 @@ def test_convert_fixes_an_observation_mismatch(dataset):
     assert [e.success_converted for e in report.episodes] == [True]
 
 
+@pytest.mark.slow
 def test_a_run_prefilled_from_a_dataset_records_it(dataset, tmp_path):
     run = tmp_path / "run"
     logs: list[str] = []
@@ -135,6 +137,7 @@ def test_a_run_prefilled_from_a_dataset_records_it(dataset, tmp_path):
     ), logs
 
 
+@pytest.mark.slow
 def test_the_cli_names_the_convert_command_for_another_mode(dataset, tmp_path):
     proc = subprocess.run(
         [

@@ -177,6 +177,7 @@ def _buffer_rows(path: Path) -> int:
         return pickle.load(f).size()  # the final buffer, as SB3's save_replay_buffer writes it
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", ["ee_delta", "joint_velocity"])
 def test_a_run_with_demonstrations_keeps_them_apart_from_its_own_episodes(mode, tmp_path):
     run = tmp_path / "run"

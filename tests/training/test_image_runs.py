@@ -15,6 +15,9 @@ import pytest
 import unified_manip  # noqa: F401  (registers the IDs)
 from unified_manip.training.images import ImageExtractor, buffer_bytes, check_buffer_fits
 
+# Each test trains from rendered frames.
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 REACH = "UnifiedManip/Arm4Reach-v0"
 
