@@ -11,7 +11,6 @@ run directory: a second is refused. What a run directory holds is
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import time
@@ -24,6 +23,7 @@ import yaml
 from unified_manip.envs.registry import get_task
 from unified_manip.training import checkpoints, rundir
 from unified_manip.training.algorithms import get_algo
+from unified_manip.training.demonstration_levers import demonstrate, keep_cloning, learn_offline_on_demonstrations
 from unified_manip.training.devices import DeviceError, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
 from unified_manip.training.hyperparams import check_her_warmup, resolve_run
@@ -40,7 +40,7 @@ from unified_manip.training.rundir import (
     write_atomic,
     write_status,
 )
-from unified_manip.training.settings import CloningLossConfig, RunConfig, demonstration_settings
+from unified_manip.training.settings import RunConfig
 
 __all__ = [
     "CONFIG",
@@ -216,11 +216,11 @@ def _train_owned(
                 **_model_kwargs(req.algo, algo_kwargs, run, env.action_space.shape[0], env.observation_space),
             )
             if run.demos.demonstrations:
-                _demonstrate(model, req, run, log)
+                demonstrate(model, req, run, log)
         if run.cloning_loss.bc_weight:
-            _keep_cloning(model, req, run.cloning_loss)
+            keep_cloning(model, req, run.cloning_loss)
         if not candidates and run.offline.offline_steps:  # with the cloning loss, if any, in its actor updates
-            _learn_offline(model, req, run.offline.offline_steps, log, progress)
+            learn_offline_on_demonstrations(model, req, run.offline.offline_steps, log, progress)
         checkpoints.prune(run_dir)  # an unpublished checkpoint of a writer that was killed
         write_status(run_dir, state="running", num_timesteps=int(model.num_timesteps), wall_time_s=elapsed_before)
         remaining = req.steps - model.num_timesteps
@@ -291,77 +291,6 @@ def _default_threads() -> int:
         return max(1, int(os.environ["OMP_NUM_THREADS"]))
     except (KeyError, ValueError):
         return max(1, min(2, os.cpu_count() or 1))
-
-
-def _demonstrate(model, req: TrainRequest, run: RunConfig, log) -> None:
-    """Fill the new model's replay buffer with the scripted policy's ``demonstrations``
-    episodes, played in envs of their own (see :mod:`unified_manip.training.demonstrations`), then
-    behaviour-clone its actor on them for ``bc_steps`` (0: none; :mod:`unified_manip.training.pretrain`),
-    after seeding a normalising run's statistics from them where it clones or learns offline.
-    ``demonstrations.json`` records what was stored and learned beside every demonstration
-    setting under its own name (:func:`~unified_manip.training.settings.demonstration_settings`);
-    results.csv carries it."""
-    from unified_manip.training.demonstrations import SEED_OFFSET, prefill
-    from unified_manip.training.pretrain import behaviour_clone, seed_statistics
-
-    source = run.demos.demonstrations
-    if isinstance(source, str):  # a dataset's episodes (unified_manip.training.dataset_demonstrations)
-        from unified_manip.training.dataset_demonstrations import prefill as prefill_from_dataset
-
-        done = prefill_from_dataset(model, source, req.env, req.env_config())
-    else:
-        # DummyVecEnv: the scripted policy reads each env's own rig in modes other than ee_delta.
-        venv = make_vec_env(req.env, req.env_config(), run.n_envs, req.seed + SEED_OFFSET, None, "dummy")
-        try:
-            done = prefill(model, venv, req.env, req.action_mode, source)
-        finally:
-            venv.close()
-    log(
-        f"{req.directory}: {done['episodes']} demonstration episodes ({done['transitions']} transitions, "
-        f"{done['success']:.2f} success) in the replay buffer"
-        + (f" from {done['dataset']}" if "dataset" in done else "")
-    )
-    done.update(demonstration_settings(run))
-    bc_steps = run.demos.bc_steps
-    if bc_steps or run.offline.offline_steps:
-        seed_statistics(model)
-    if bc_steps:
-        cloned = behaviour_clone(model, bc_steps)
-        done["behaviour_cloning"] = {k: v for k, v in cloned.items() if k != "steps"}  # bc_steps says how many
-        log(
-            f"{req.directory}: behaviour cloning, {bc_steps} actor steps on the demonstrations "
-            f"(loss {cloned['loss_first']:.3f} -> {cloned['loss_last']:.3f})"
-        )
-    write_atomic(req.directory / "demonstrations.json", json.dumps(done, indent=2) + "\n")
-
-
-def _learn_offline(model, req: TrainRequest, steps: int, log, progress: bool) -> None:
-    """Take ``steps`` of the algorithm's own updates on the demonstrations alone
-    (:mod:`unified_manip.training.offline`) and add what they learned to ``demonstrations.json``."""
-    from unified_manip.training.offline import learn_offline
-
-    path = req.directory / "demonstrations.json"
-    done = json.loads(path.read_text())
-    learned = learn_offline(model, steps, progress)
-    done["offline"] = {k: v for k, v in learned.items() if k != "steps"}  # offline_steps says how many
-    first, last = learned["first"].get("train/critic_loss"), learned["last"].get("train/critic_loss")
-    log(
-        f"{req.directory}: {steps} offline steps of {req.algo} on the demonstrations alone"
-        + (f" (critic loss {first:.3f} -> {last:.3f})" if first is not None and last is not None else "")
-    )
-    write_atomic(path, json.dumps(done, indent=2) + "\n")
-
-
-def _keep_cloning(model, req: TrainRequest, loss: CloningLossConfig) -> None:
-    """Add the cloning loss ``loss`` on the recorded demonstrations to every actor update
-    from here on (:mod:`unified_manip.training.cloning_loss`; a resumed run adds it again)."""
-    from unified_manip.training.cloning_loss import CloningLossError, attach
-
-    done = json.loads((req.directory / "demonstrations.json").read_text())
-    try:
-        attach(model, done["transitions"], req.steps, loss.bc_weight, loss.bc_q_filter, loss.bc_sampled)
-    except CloningLossError as err:
-        raise TrainError(f"{req.directory}: {err}") from None
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
