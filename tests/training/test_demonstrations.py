@@ -195,6 +195,7 @@ def test_a_run_with_demonstrations_keeps_them_apart_from_its_own_episodes(mode, 
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
+@pytest.mark.slow
 def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
     run = tmp_path / "run"
     first: list[str] = []
@@ -211,6 +212,7 @@ def test_a_resumed_run_does_not_play_its_demonstrations_again(tmp_path):
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
+@pytest.mark.slow
 def test_ctrl_c_while_demonstrations_play_stops_the_run_with_them_checkpointed(tmp_path):
     """A bench worker ignores SIGINT until train() takes it over. Ctrl-C that lands while
     the demonstrations play (or a checkpoint loads) stops the run before its first

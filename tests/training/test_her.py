@@ -15,6 +15,7 @@ import unified_manip
 HER_IDS = list(unified_manip.TASKS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task_id", HER_IDS)
 def test_sac_her_smoke_run(task_id):
     torch.set_num_threads(1)

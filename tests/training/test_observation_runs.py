@@ -41,6 +41,7 @@ def test_run_names_carry_a_non_default_design(env_kwargs, name):
     assert req.directory == Path("runs") / name
 
 
+@pytest.mark.slow
 def test_a_grid_crosses_observation_designs(tmp_path):
     doc = {**TINY, "action_modes": ["ee_delta"], "seeds": [0], "observations": ["default", "relative", ["ee_pos"]]}
     grid = load_grid(write_grid(tmp_path, doc))
@@ -79,6 +80,7 @@ def test_a_grid_with_a_bad_design_fails_in_one_line(tmp_path, observations, mess
     assert str(err.value) == f"{path}: {message}"
 
 
+@pytest.mark.slow
 def test_train_observation_then_eval_under_noise_and_delay(tmp_path):
     run_dir = tmp_path / "run"
     sets = ["learning_starts=50", "batch_size=32", "policy_kwargs.net_arch=[16,16]", "eval_freq=100"]

@@ -63,6 +63,7 @@ def _request(run_dir):
     return pretrain_request(run_dir, bc_steps=0, offline_steps=30, bc_weight=1.0)
 
 
+@pytest.mark.slow
 def test_a_run_learns_offline_once_with_the_cloning_loss_and_records_it(tmp_path):
     """Taken at the start with the Q-filtered cloning loss in the actor updates (the record
     holds the filter's pass rate), recorded with the demonstrations; interrupted after its

@@ -92,6 +92,7 @@ def _request(run_dir, **overrides) -> TrainRequest:
     )
 
 
+@pytest.mark.slow
 def test_a_run_clones_once_and_records_it(tmp_path):
     """Cloned at the start, recorded with the demonstrations (demonstrations.json); interrupted after its first
     checkpoint and resumed, the run goes on from the checkpointed (cloned) actor."""

@@ -65,6 +65,7 @@ def test_bad_device_is_one_line_exit_2(command, tmp_path):
         assert not (tmp_path / "r").exists() and not (tmp_path / "b").exists()
 
 
+@pytest.mark.slow
 def test_device_is_recorded_and_not_compared_on_resume(tmp_path):
     """A run records where it started; the same run asked for on another device is the
     same run (here cpu, then auto, which is cpu on a machine without a GPU)."""
@@ -114,6 +115,7 @@ def test_every_hyperparameter_entry_loads_and_type_checks(algo):
     assert resolve(algo, "default")["policy"] == "MultiInputPolicy"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("grid", sorted((ROOT / "baselines" / "grids").rglob("*.yaml")), ids=lambda p: p.stem)
 def test_every_committed_grid_loads(grid):
     loaded = load_grid(grid)
@@ -240,6 +242,7 @@ def test_step_response_shows_the_servo_overshoot_only_where_a_mode_holds_its_tar
 
 
 # ---------------------------------------------------------------------- new algo keys resume
+@pytest.mark.slow
 def test_crossq_her_resumes_after_kill_9(tmp_path):
     """Each new algorithm key resumes after a kill with its step count and replay buffer."""
     import json
@@ -270,6 +273,7 @@ def test_crossq_her_resumes_after_kill_9(tmp_path):
     assert load_from_pkl(run_dir / "replay_buffer.pkl").size() == 800
 
 
+@pytest.mark.slow
 def test_evaluation_schedule_counts_env_steps_over_all_training_envs(tmp_path):
     """eval_freq is in env steps whatever --n-envs is (EvalCallback counts vector steps)."""
     import numpy as np

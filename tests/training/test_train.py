@@ -101,6 +101,7 @@ def tb_tags(run_dir: Path) -> set[str]:
 
 
 # ---------------------------------------------------------------------- every algorithm
+@pytest.mark.slow
 @pytest.mark.parametrize("task_id", one_id_per_family())
 @pytest.mark.parametrize("algo", [a for a in ALGOS if a != "bc"])  # bc clones a dataset: tests/training/test_bc.py
 def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
@@ -151,6 +152,7 @@ def _wait_for_checkpoint(run_dir: Path, min_steps: int, proc: subprocess.Popen, 
     raise AssertionError("no checkpoint appeared")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", ["kill", "interrupt"])
 def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
     from stable_baselines3.common.save_util import load_from_pkl
@@ -224,6 +226,7 @@ def test_killed_run_resumes_step_count_and_replay_buffer(how, tmp_path):
 
 
 # ---------------------------------------------------------------------- reproducibility
+@pytest.mark.slow
 def test_a_seed_trains_bit_for_bit_on_one_machine(tmp_path):
     """The same command twice, the benchmark's recipe shape (TQC+HER, parallel native envs,
     scripted demonstrations, observation normalisation): the same weights, evaluations and
@@ -253,6 +256,7 @@ def trained_run(tmp_path_factory) -> Path:
     return run_dir
 
 
+@pytest.mark.slow
 def test_eval_reports_success_with_confidence_interval_and_video(trained_run, tmp_path):
     video = tmp_path / "episodes.gif"
     out = tmp_path / "eval.json"
@@ -268,6 +272,7 @@ def test_eval_reports_success_with_confidence_interval_and_video(trained_run, tm
     assert frames.shape[0] == 2 * (50 + 1) and frames.shape[-1] == 3
 
 
+@pytest.mark.slow
 def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
     proc = cli("eval", str(trained_run), "--action-mode", "joint_torque", check=False)
     assert proc.returncode == 2
@@ -376,6 +381,7 @@ def test_an_entry_that_names_no_task_or_mode_is_an_error(key, tmp_path):
     assert "batch_size" not in resolve("sac", "UnifiedManip/Lift-v0", directory=tmp_path, action_mode="ee_delta")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("algo", list(ALGOS))
 def test_the_shipped_entries_train_in_every_mode_of_every_id(algo):
     """No entry asks a mode for demonstrations its scripted policy cannot play (or asks a
@@ -430,6 +436,7 @@ def test_her_training_that_would_start_before_any_episode_ends_is_one_line_exit_
 
 
 # ---------------------------------------------------------------------- rl-baselines3-zoo
+@pytest.mark.slow
 def test_rl_zoo3_trains_a_unified_manip_id(tmp_path):
     env = dict(os.environ)
     proc = subprocess.run(
@@ -488,6 +495,7 @@ def _tiny_request(run_dir: Path, **kwargs):
     return TrainRequest(**{**base, **kwargs})
 
 
+@pytest.mark.slow
 def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 

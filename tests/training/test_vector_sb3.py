@@ -10,6 +10,7 @@ import sys
 
 import gymnasium as gym
 import numpy as np
+import pytest
 import torch
 from gymnasium.vector import AutoresetMode
 from stable_baselines3 import PPO, SAC, HerReplayBuffer
@@ -133,6 +134,7 @@ def test_ppo_smoke():
     env.close()
 
 
+@pytest.mark.slow
 def test_train_picks_and_runs_the_native_vector_env(tmp_path):
     from unified_manip.envs.vector.factory import resolve_vec
 
