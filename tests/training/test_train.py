@@ -288,7 +288,7 @@ def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
     [
         (
             ["--algo", "dqn"],
-            "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her')",
+            "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her', 'bc')",
         ),
         (["--env", "UnifiedManip/Nope-v0"], "argument --env: invalid choice: 'UnifiedManip/Nope-v0'"),
         (["--action-mode", "cartesian"], "argument --action-mode: invalid choice: 'cartesian'"),

@@ -18,7 +18,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from unified_manip.envs.cameras import image_sensor, observation_box
+from unified_manip.envs.cameras import ImageSensor, image_sensor, observation_box
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions
 from unified_manip.envs.observations import build_stream, reattach
@@ -71,7 +71,7 @@ class NativeVectorEnv(VectorEnv):
         # One camera per env (each env's model holds its own goal marker), drawn in this
         # thread: a GL context is current in one thread at a time.
         sensors = [image_sensor(config, self.task.cameras, self._task_id) for _ in range(n)]
-        self._images = sensors if sensors[0] is not None else None
+        self._images: list[ImageSensor] | None = [s for s in sensors if s is not None] or None
         obs = self._raw(batched.observations())
         throwaway = np.random.default_rng(0)
         obs["observation"] = np.stack([s.start(obs["observation"][i], throwaway) for i, s in enumerate(self._streams)])
