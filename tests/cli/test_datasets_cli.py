@@ -177,6 +177,9 @@ def test_ctrl_c_during_collect_leaves_no_dataset(tmp_path):
         + ["--episodes", "100000", "--out", str(out)],
         stderr=subprocess.PIPE,
         text=True,
+        # Ctrl-C's default, even where this suite runs as a background job (which starts
+        # with SIGINT ignored, and Python then installs no KeyboardInterrupt handler).
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     seen = ""
     deadline = time.monotonic() + 120
