@@ -9,12 +9,11 @@ the difference and the command that fixes it.
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import warnings
 
 import numpy as np
 import pytest
+from test_train import cli
 
 from unified_manip.datasets.policies import scripted
 from unified_manip.datasets.recording import collect
@@ -139,27 +138,21 @@ def test_a_run_prefilled_from_a_dataset_records_it(dataset, tmp_path):
 
 @pytest.mark.slow
 def test_the_cli_names_the_convert_command_for_another_mode(dataset, tmp_path):
-    proc = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "unified_manip.cli",
-            "train",
-            "--env",
-            ARM,
-            "--algo",
-            "tqc_her",
-            "--action-mode",
-            "joint_delta",
-            "--steps",
-            "10",
-            "--demonstrations",
-            str(dataset),
-            "--run-dir",
-            str(tmp_path / "r"),
-        ],
-        capture_output=True,
-        text=True,
+    proc = cli(
+        "train",
+        "--env",
+        ARM,
+        "--algo",
+        "tqc_her",
+        "--action-mode",
+        "joint_delta",
+        "--steps",
+        "10",
+        "--demonstrations",
+        str(dataset),
+        "--run-dir",
+        str(tmp_path / "r"),
+        check=False,
     )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.count("\n") == 1
