@@ -23,6 +23,7 @@ from unified_manip.experiments.grid import GridError, load_grid
 from unified_manip.experiments.report import build_report
 from unified_manip.experiments.results import read_results, write_results
 from unified_manip.experiments.sanity import dense_reward_check
+from unified_manip.training.hyperparams import resolve_run
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -276,6 +277,32 @@ def test_malformed_grids_give_exact_errors(tmp_path, change, message):
     with pytest.raises(GridError) as err:
         load_grid(path)
     assert str(err.value).startswith(f"{path}: {message}")
+
+
+def test_cell_overrides_set_one_cells_runs_after_the_algorithms_overrides(tmp_path):
+    """A study where one cell differs (a mode with no dataset runs without demonstrations)."""
+    base = TINY["overrides"]["sac_her"]
+    doc = {
+        **TINY,
+        "overrides": {"sac_her": [*base, "demonstrations=4"]},
+        "cell_overrides": [{"action_mode": "joint_delta", "set": ["demonstrations=0"]}],
+    }
+    runs = load_grid(write_grid(tmp_path, doc)).runs
+    demos = {
+        (r.action_mode, r.seed): resolve_run(
+            r.algo, r.task, r.overrides, action_mode=r.action_mode
+        ).run.demos.demonstrations
+        for r in runs
+    }
+    assert demos == {("ee_delta", 0): 4, ("ee_delta", 1): 4, ("joint_delta", 0): 0, ("joint_delta", 1): 0}
+    for bad, message in [
+        ([{"action_mode": "joint_delta"}], "cell_overrides must be a list of mappings with 'set'"),
+        ([{"mode": "joint_delta", "set": ["demonstrations=0"]}], "unknown key 'mode' in cell_overrides"),
+        ([{"action_mode": "joint_delta", "set": ["warp=9"]}], "unknown hyperparameter 'warp' in --set 'warp=9'"),
+    ]:
+        with pytest.raises(GridError) as err:
+            load_grid(write_grid(tmp_path, {**doc, "cell_overrides": bad}))
+        assert str(err.value).startswith(f"{tmp_path / 'grid.yaml'}: {message}")
 
 
 def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):

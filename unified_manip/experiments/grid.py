@@ -33,6 +33,7 @@ OPTIONAL = (
     "targets",
     "env_kwargs",
     "observations",
+    "cell_overrides",
 )
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 
@@ -75,6 +76,31 @@ def _list(path: Path, doc: dict, key: str, kind: type) -> list:
     ):
         raise GridError(f"{path}: grid key {key!r} must be a non-empty list of {kind.__name__}, got {value!r}")
     return value
+
+
+def _matches(combo: dict[str, str], cell: dict[str, Any]) -> bool:
+    return all(combo[k] == v for k, v in cell.items())
+
+
+def _cell_overrides(path: Path, entries: Any) -> list[tuple[dict[str, Any], list[str]]]:
+    """``cell_overrides``: ``[{task: ..., action_mode: ..., set: [key=value, ...]}, ...]``, settings
+    for the runs whose keys (from ``only``'s) match, applied after ``overrides``."""
+    shape = f"a list of mappings with 'set' (a list of key=value strings) and keys from {', '.join(ONLY_KEYS)}"
+    if not isinstance(entries, list):
+        raise GridError(f"{path}: cell_overrides must be {shape}")
+    out = []
+    for entry in entries:
+        values = entry.get("set") if isinstance(entry, dict) else None
+        if not isinstance(values, list) or not all(isinstance(v, str) for v in values):
+            raise GridError(f"{path}: cell_overrides must be {shape}, got {entry!r}")
+        cell = {k: v for k, v in entry.items() if k != "set"}
+        bad = [k for k in cell if k not in ONLY_KEYS]
+        if bad:
+            raise GridError(
+                f"{path}: unknown key {bad[0]!r} in cell_overrides; expected {', '.join(ONLY_KEYS)} and set"
+            )
+        out.append((cell, values))
+    return out
 
 
 def load_grid(path: Path) -> Grid:
@@ -145,14 +171,16 @@ def load_grid(path: Path) -> Grid:
             bad = [k for k in entry if k not in ONLY_KEYS]
             if bad:
                 raise GridError(f"{path}: unknown key {bad[0]!r} in only; expected {', '.join(ONLY_KEYS)}")
+    cell_overrides = _cell_overrides(path, doc.get("cell_overrides", []))
     runs = []
     checked: set[tuple[str, str]] = set()
     for t, r, a, s, o in itertools.product(tasks, rewards, algos, seeds, observations):
         for m in TASKS[t].action_modes if modes_value == "all" else modes:
             combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
-            if only is not None and not any(all(combo[k] == v for k, v in e.items()) for e in only):
+            if only is not None and not any(_matches(combo, e) for e in only):
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
+            sets += tuple(v for cell, values in cell_overrides if _matches(combo, cell) for v in values)
             kwargs = env_kwargs if o == "default" else {**env_kwargs, "observation": o}
             try:  # every hyperparameter override is checked before anything starts
                 resolved = resolve_run(a, t, sets, action_mode=m)
