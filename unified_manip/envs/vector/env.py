@@ -121,10 +121,10 @@ class NativeVectorEnv(VectorEnv):
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
                 self._rngs[i], _ = seeding.np_random(seeds[i])
-            extra = self._gather_extra(extra, self._batched.reset(int(i), self._rngs[i]), i)
+            extra = vinfo.gather(extra, self._batched.reset(int(i), self._rngs[i]), i, n)
         obs = self._fresh_obs(mask)
         g2o, grasped = self._batched.reward_state()
-        info = vinfo.merge({}, self._reset_info(obs, g2o, grasped, extra), mask)
+        info = vinfo.merge({}, vinfo.reset_info(self._success(obs), g2o, grasped, extra), mask)
         self._was_grasped[mask] = grasped[mask]
         self._elapsed[mask] = 0
         self._autoreset[mask] = False
@@ -149,7 +149,7 @@ class NativeVectorEnv(VectorEnv):
         diagnostics = self._batched.step(a, np.flatnonzero(stepping)) if stepping.any() else {}
         reset_extra: dict[str, np.ndarray] = {}
         for i in np.flatnonzero(resetting):
-            reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
+            reset_extra = vinfo.gather(reset_extra, self._batched.reset(int(i), self._rngs[i]), i, n)
         obs = self._raw(self._batched.observations())
         # MuJoCo flags (and resets) a diverged state only at the start of its next substep,
         # so a non-finite observation is a divergence too (as in the single env).
@@ -195,7 +195,7 @@ class NativeVectorEnv(VectorEnv):
             info = vinfo.merge(info, {"final_info": step_info}, done)
             info["final_obs"], info["_final_obs"] = vinfo.objects(final, n), done.copy()
             for i in np.flatnonzero(done):
-                reset_extra = self._gather_extra(reset_extra, self._batched.reset(int(i), self._rngs[i]), i)
+                reset_extra = vinfo.gather(reset_extra, self._batched.reset(int(i), self._rngs[i]), i, n)
             fresh = self._raw(self._batched.observations())
             self._sense(fresh, np.flatnonzero(done), ())
             for key, value in obs.items():
@@ -207,7 +207,7 @@ class NativeVectorEnv(VectorEnv):
             done = np.zeros(n, dtype=bool)
         info = vinfo.merge(info, step_info, ~resetting)
         if resetting.any():
-            info = vinfo.merge(info, self._reset_info(obs, g2o, grasped, reset_extra), resetting)
+            info = vinfo.merge(info, vinfo.reset_info(self._success(obs), g2o, grasped, reset_extra), resetting)
         for key, value in obs.items():
             self._last_obs[key] = value.copy()
         self._autoreset = done
@@ -304,31 +304,10 @@ class NativeVectorEnv(VectorEnv):
         for i, stream in enumerate(self._streams):
             reattach(stream, self._batched.backend(i))
 
-    def _reset_info(self, obs, g2o, grasped, extra) -> dict[str, Any]:
-        n = self.num_envs
-        # As the single env's reset: success from the float32 goals.
-        success = (self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"]) < self._threshold).astype(
-            np.float64
-        )
-        return {
-            "is_success": success,
-            "grip_to_object": g2o,
-            "grasped": grasped,
-            "dropped": np.zeros(n),
-            "action_sq": np.zeros(n),
-            "sim_unstable": np.zeros(n, dtype=bool),
-            **extra,
-        }
-
-    def _gather_extra(self, out: dict[str, np.ndarray], values: Mapping[str, Any], i: int) -> dict[str, np.ndarray]:
-        """Collect one env's scalar extra-info entries into ``(N,)`` arrays."""
-        for key, value in values.items():
-            if key not in out:
-                out[key] = np.zeros(
-                    self.num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object
-                )
-            out[key][i] = value
-        return out
+    def _success(self, obs: dict[str, np.ndarray]) -> np.ndarray:
+        """As the single env's reset: success from the float32 goals."""
+        distance = self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"])
+        return (distance < self._threshold).astype(np.float64)
 
     @staticmethod
     def _copy(obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

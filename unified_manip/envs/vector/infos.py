@@ -57,3 +57,28 @@ def objects(rows: Mapping[int, Any], num_envs: int) -> np.ndarray:
     for i, value in rows.items():
         out[i] = value
     return out
+
+
+def reset_info(success: np.ndarray, g2o: np.ndarray, grasped: np.ndarray, extra: Mapping[str, Any]) -> dict[str, Any]:
+    """The info entries of envs that start an episode, as the single env's ``reset`` gives
+    them: ``is_success`` (float64), the reward inputs at rest and no instability."""
+    n = len(success)
+    return {
+        "is_success": success,
+        "grip_to_object": g2o,
+        "grasped": grasped,
+        "dropped": np.zeros(n),
+        "action_sq": np.zeros(n),
+        "sim_unstable": np.zeros(n, dtype=bool),
+        **extra,
+    }
+
+
+def gather(out: dict[str, np.ndarray], values: Mapping[str, Any], i: int, num_envs: int) -> dict[str, np.ndarray]:
+    """Add env ``i``'s scalar info entries ``values`` to ``out``'s ``(num_envs,)`` arrays
+    (made on first sight, with the value's Python type as dtype); return ``out``."""
+    for key, value in values.items():
+        if key not in out:
+            out[key] = np.zeros(num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object)
+        out[key][i] = value
+    return out

@@ -1,0 +1,23 @@
+#!/bin/bash
+# Issue 40's shared demonstrations: 100 successful scripted ee_delta episodes per task,
+# converted into every other mode with `unified-manip convert`. Resumable: a dataset that
+# exists is skipped (collect and convert publish under a temporary name, then rename).
+# Usage: make_datasets.sh TASK...   (run from a checkout with its .venv)
+set -u
+ROOT=/work/data/as_families
+export OMP_NUM_THREADS=1 MUJOCO_GL=egl MINARI_DATASETS_PATH=$ROOT
+UM=${UM:-.venv/bin/unified-manip}
+for task in "$@"; do
+  name=$task
+  src=$ROOT/$name/ee_delta-v0
+  if [ ! -d "$src" ]; then
+    $UM collect --env UnifiedManip/$task --policy scripted --episodes 100 --only-successful --seed 1000000 \
+      --action-mode ee_delta --out $src --no-progress --json $ROOT/$name/ee_delta.json || exit 1
+  fi
+  for mode in joint_torque joint_position joint_delta joint_target_delta joint_velocity ee_target_delta native; do
+    out=$ROOT/$name/$mode-v0
+    [ -d "$out" ] || [ -f $ROOT/$name/$mode.json ] && continue
+    $UM convert $src --action-mode $mode --out $out --no-progress --json $ROOT/$name/$mode.json \
+      2> $ROOT/$name/$mode.err || echo "$task $mode: $(tail -1 $ROOT/$name/$mode.err)"
+  done
+done
