@@ -2,9 +2,9 @@
 # Issue 40's shared demonstrations: 100 successful scripted ee_delta episodes per task,
 # converted into every other mode with `unified-manip convert`. Resumable: a dataset that
 # exists is skipped (collect and convert publish under a temporary name, then rename).
-# Usage: make_datasets.sh TASK...   (run from a checkout with its .venv)
+# Usage: make_datasets.sh TASK...   (run from a checkout with its .venv; ROOT defaults to ./data, the grid reads data/{task}/{action_mode}-v0)
 set -u
-ROOT=/work/data/as_families
+ROOT=${ROOT:-data}
 export OMP_NUM_THREADS=1 MUJOCO_GL=egl MINARI_DATASETS_PATH=$ROOT
 UM=${UM:-.venv/bin/unified-manip}
 for task in "$@"; do
