@@ -13,7 +13,7 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
-from conftest import ALL_IDS, ID_MODES, make, random_actions, rollout, smoke_mode
+from conftest import ALL_IDS, ID_MODE_REWARDS, ID_MODES, make, random_actions, rollout, smoke_mode
 from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
@@ -38,32 +38,60 @@ def _assert_same(a, b):
         assert a == b or (a != a and b != b), f"{a!r} != {b!r}"
 
 
+@pytest.fixture
+def new_env():
+    """``make``, with every env it made closed when the test ends (pass or fail): an
+    unclosed robosuite env keeps its MuJoCo memory until a full garbage collection."""
+    made: list[gym.Env] = []
+
+    def factory(*args, **kwargs) -> gym.Env:
+        made.append(make(*args, **kwargs))
+        return made[-1]
+
+    yield factory
+    for env in made:
+        env.close()
+
+
+def _case_id(case) -> str:
+    return "-".join(case).replace("UnifiedManip/", "")
+
+
+@pytest.fixture(
+    scope="module",
+    params=[pytest.param(c, id=_case_id(c), marks=pytest.mark.xdist_group(_case_id(c))) for c in ID_MODE_REWARDS],
+)
+def case(request):
+    """One env per ID x mode x reward, shared by the tests of that case (each starts with a
+    seeded reset), made once and closed after its last test. Its xdist group keeps the
+    case's tests on one worker, and pytest runs them one after another."""
+    task_id, mode, reward = request.param
+    env = make(task_id, mode, reward)
+    yield task_id, mode, reward, env
+    env.close()
+
+
 # ---------------------------------------------------------------------- checkers
-def test_gymnasium_env_checker(id_mode_reward):
-    task_id, mode, reward = id_mode_reward
-    env = make(task_id, mode, reward, disable_env_checker=True)
+def test_gymnasium_env_checker(case):
+    task_id, mode, reward, env = case
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # every checker warning is a failure, except:
         # unbounded observation boxes, which gymnasium-robotics' own envs use too.
         warnings.filterwarnings("ignore", message=r".*infinity. This is probably too (low|high)")
         gym_check_env(env.unwrapped, skip_render_check=True)
-    env.close()
 
 
-def test_sb3_env_checker(id_mode_reward):
-    task_id, mode, reward = id_mode_reward
-    env = make(task_id, mode, reward)
+def test_sb3_env_checker(case):
+    task_id, mode, reward, env = case
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sb3_check_env(env.unwrapped, warn=True, skip_render_check=True)
-    env.close()
 
 
 # ---------------------------------------------------------------------- spaces and info
-def test_spaces_and_info(id_mode_reward):
-    task_id, mode, reward = id_mode_reward
+def test_spaces_and_info(case):
+    task_id, mode, reward, env = case
     spec = unified_manip.TASKS[task_id]
-    env = make(task_id, mode, reward)
     assert isinstance(env.observation_space, gym.spaces.Dict)
     assert set(env.observation_space.spaces) == {"observation", "achieved_goal", "desired_goal"}
     for space in env.observation_space.spaces.values():
@@ -86,37 +114,33 @@ def test_spaces_and_info(id_mode_reward):
     if mode in ("ee_delta", "ee_target_delta"):
         assert info["ik_residual"] >= 0.0
         assert isinstance(info["ik_limit_active"], bool)
-    env.close()
 
 
 # ---------------------------------------------------------------------- determinism
-def test_seeded_determinism_side_by_side(id_mode):
+def test_seeded_determinism_side_by_side(id_mode, new_env):
     """Two envs, same seed and actions: bit-identical rollouts, across several resets."""
     task_id, mode = id_mode
-    env1, env2 = make(task_id, mode, "dense_penalized"), make(task_id, mode, "dense_penalized")
-    actions = random_actions(env1, 40, seed=1)
+    env1, env2 = new_env(task_id, mode, "dense_penalized"), new_env(task_id, mode, "dense_penalized")
+    actions = random_actions(env1, 25, seed=1)  # long rollouts: the golden hashes
     for seed in (0, 7, 0):
         _assert_same(rollout(env1, seed, actions), rollout(env2, seed, actions))
     # A different seed gives a different episode.
     o1, _ = env1.reset(seed=1)
     o2, _ = env2.reset(seed=2)
     assert not np.array_equal(o1["desired_goal"], o2["desired_goal"])
-    env1.close()
-    env2.close()
 
 
-def test_unseeded_reset_continues_the_rng_stream(id_mode):
+def test_unseeded_reset_continues_the_rng_stream(id_mode, new_env):
     task_id, mode = id_mode
-    env1, env2 = make(task_id, mode), make(task_id, mode)
+    env1, env2 = new_env(task_id, mode), new_env(task_id, mode)
     env1.reset(seed=5)
     env2.reset(seed=5)
     _assert_same(env1.reset()[0], env2.reset()[0])
 
 
 # ---------------------------------------------------------------------- reward invariant
-def test_compute_reward_equals_step_reward_batched(id_mode_reward):
-    task_id, mode, reward = id_mode_reward
-    env = make(task_id, mode, reward)
+def test_compute_reward_equals_step_reward_batched(case):
+    task_id, mode, reward, env = case
     env.reset(seed=11)
     ag, dg, infos, rewards = [], [], [], []
     for a in random_actions(env, 60, seed=2):
@@ -143,26 +167,25 @@ def test_compute_reward_equals_step_reward_batched(id_mode_reward):
         assert set(np.unique(batched)) <= {-1.0, 0.0}
     else:
         np.testing.assert_array_equal(env.unwrapped.compute_reward_terms(ag, ag, infos)["success"], 10.0)
-    env.close()
 
 
-def test_compute_terminated_and_truncated(id_mode):
+def test_compute_terminated_and_truncated(id_mode, new_env):
     task_id, mode = id_mode
-    env = make(task_id, mode).unwrapped
+    env = new_env(task_id, mode).unwrapped
     obs, info = env.reset(seed=0)
     ag = obs["achieved_goal"]
     assert not env.compute_terminated(ag, ag, info)
     assert env.compute_truncated(ag, ag, info) is False
-    env2 = make(task_id, mode, terminate_on_success=True).unwrapped
+    env2 = new_env(task_id, mode, terminate_on_success=True).unwrapped
     assert env2.compute_terminated(ag, ag, info)
     assert not env2.compute_terminated(ag, ag + 1.0, info)
 
 
 # ---------------------------------------------------------------------- episode end
 @pytest.mark.parametrize("task_id", ALL_IDS)
-def test_time_limit_truncates_not_terminates(task_id):
+def test_time_limit_truncates_not_terminates(task_id, new_env):
     # The time limit is the ID's (its registered max_episode_steps); one whole episode per ID.
-    env = make(task_id, smoke_mode(task_id))
+    env = new_env(task_id, smoke_mode(task_id))
     env.reset(seed=0)
     n = env.spec.max_episode_steps
     zeros = np.zeros(env.action_space.shape, np.float32)
@@ -172,31 +195,30 @@ def test_time_limit_truncates_not_terminates(task_id):
         assert truncated == (i == n - 1)
 
 
-def test_zero_action_holds_in_every_mode(id_mode):
+def test_zero_action_holds_in_every_mode(id_mode, new_env):
     # Every mode's zero action keeps the episode going: no termination, no early
     # truncation (a diverging simulation truncates with a flag).
     task_id, mode = id_mode
-    env = make(task_id, mode)
+    env = new_env(task_id, mode)
     obs, _ = env.reset(seed=0)
     zeros = np.zeros(env.action_space.shape, np.float32)
     for _ in range(min(50, env.spec.max_episode_steps - 1)):
         obs, _, terminated, truncated, info = env.step(zeros)
         assert not (terminated or truncated), info
     assert np.all(np.isfinite(obs["observation"]))
-    env.close()
 
 
-def test_max_episode_steps_kwarg():
-    env = make(ALL_IDS[0], max_episode_steps=3)
+def test_max_episode_steps_kwarg(new_env):
+    env = new_env(ALL_IDS[0], max_episode_steps=3)
     env.reset(seed=0)
     zeros = np.zeros(env.action_space.shape, np.float32)
     assert [env.step(zeros)[3] for _ in range(3)] == [False, False, True]
 
 
 # ---------------------------------------------------------------------- pickling / vec
-def test_pickle_roundtrip_continues_identically(id_mode):
+def test_pickle_roundtrip_continues_identically(id_mode, new_env):
     task_id, mode = id_mode
-    env = make(task_id, mode, "dense")
+    env = new_env(task_id, mode, "dense")
     env.reset(seed=4)
     actions = random_actions(env, 10, seed=3)
     for a in actions[:5]:
@@ -204,6 +226,7 @@ def test_pickle_roundtrip_continues_identically(id_mode):
     clone = pickle.loads(pickle.dumps(env))
     for a in actions[5:]:
         _assert_same(env.step(a), clone.step(a))
+    clone.close()
 
 
 # One ID per family: what a worker process does (import the package, make the ID from its
@@ -247,27 +270,26 @@ def test_subproc_vec_env_of_two(task_id):
 
 # ---------------------------------------------------------------------- rendering
 @pytest.mark.parametrize("task_id", ALL_IDS)
-def test_render_rgb_array_headless(task_id):
-    env = make(task_id, smoke_mode(task_id), render_mode="rgb_array", render_width=160, render_height=120)
+def test_render_rgb_array_headless(task_id, new_env):
+    env = new_env(task_id, smoke_mode(task_id), render_mode="rgb_array", render_width=160, render_height=120)
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (120, 160, 3) and frame.dtype == np.uint8
     assert frame.std() > 5.0  # a real picture, not a blank buffer
     env.step(env.action_space.sample())
     assert env.render().shape == (120, 160, 3)
-    env.close()
 
 
-def test_render_none_returns_none():
-    env = make(ALL_IDS[0])
+def test_render_none_returns_none(new_env):
+    env = new_env(ALL_IDS[0])
     env.reset(seed=0)
     assert env.render() is None
 
 
 # ---------------------------------------------------------------------- bad input
-def test_bad_action_shape_and_values(id_mode):
+def test_bad_action_shape_and_values(id_mode, new_env):
     task_id, mode = id_mode
-    env = make(task_id, mode)
+    env = new_env(task_id, mode)
     env.reset(seed=0)
     n = env.action_space.shape[0]
     with pytest.raises(ValueError) as err:
@@ -284,7 +306,7 @@ def test_bad_action_shape_and_values(id_mode):
     with pytest.raises(ValueError, match=r"action must be finite"):
         env.step(bad)
     # Nothing was applied by the rejected actions: the state equals a fresh reset's.
-    fresh = make(task_id, mode)
+    fresh = new_env(task_id, mode)
     o_fresh, _ = fresh.reset(seed=0)
     a = np.full(n, 5.0, np.float32)  # out of range: clipped, not an error
     _assert_same(env.step(a), fresh.step(np.ones(n, np.float32)))
@@ -313,9 +335,9 @@ def test_unknown_task_id_lists_ids():
 
 
 # ---------------------------------------------------------------------- stability
-def test_diverged_physics_truncates_with_flag():
+def test_diverged_physics_truncates_with_flag(new_env):
     """A blown-up state ends the episode with truncated=True and sim_unstable=True."""
-    env = make("UnifiedManip/Arm4PickAndPlace-v0", "joint_torque")
+    env = new_env("UnifiedManip/Arm4PickAndPlace-v0", "joint_torque")
     obs0, _ = env.reset(seed=0)
     data = env.unwrapped._backend.data
     data.qvel[:] = 1e12  # what a diverging integrator produces
@@ -332,9 +354,9 @@ def test_diverged_physics_truncates_with_flag():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("task_id,mode", ID_MODES, ids=lambda p: str(p).replace("UnifiedManip/", ""))
-def test_random_steps_stay_stable(task_id, mode):
+def test_random_steps_stay_stable(task_id, mode, new_env):
     """``TaskSpec.stability_steps`` random steps (10,000 unless the task sets fewer)."""
-    env = make(task_id, mode, max_episode_steps=200)
+    env = new_env(task_id, mode, max_episode_steps=200)
     env.reset(seed=0)
     rng = np.random.default_rng(0)
     steps = unified_manip.TASKS[task_id].stability_steps
