@@ -134,11 +134,18 @@ def _slow_family(value) -> bool:
 def pytest_collection_modifyitems(items):
     """The fast subset runs every parametrised contract on the arm family (MuJoCo only,
     milliseconds a step); the same cases on Fetch, the Shadow Hand and robosuite carry
-    ``slow``. CI runs them all."""
+    ``slow``. CI runs them all.
+
+    The tests marked ``slow`` in their code (whole training runs, benches, subprocesses:
+    tens of seconds each) then move ahead of the others, in their own order. pytest-xdist's
+    ``loadgroup`` hands out xdist groups first, largest first, then single tests in this
+    order, so the long ones start early and short ones fill the end of both workers."""
+    explicit = {id(item) for item in items if item.get_closest_marker("slow") is not None}
     for item in items:
         callspec = getattr(item, "callspec", None)
         if callspec is not None and any(_slow_family(v) for v in callspec.params.values()):
             item.add_marker(pytest.mark.slow)
+    items.sort(key=lambda item: id(item) not in explicit)
 
 
 @pytest.fixture(params=ID_MODE_REWARDS, ids=lambda p: "-".join(p).replace("UnifiedManip/", ""))

@@ -13,6 +13,7 @@ import pytest
 import yaml
 from test_bench import TINY, write_grid
 
+from unified_manip.cli.main import main
 from unified_manip.experiments.grid import GridError, load_grid
 from unified_manip.experiments.results import collect_row
 from unified_manip.training.request import TrainRequest
@@ -81,7 +82,17 @@ def test_a_grid_with_a_bad_design_fails_in_one_line(tmp_path, observations, mess
 
 
 @pytest.mark.slow
-def test_train_observation_then_eval_under_noise_and_delay(tmp_path):
+def test_train_observation_then_eval_under_noise_and_delay(tmp_path, capsys):
+    """In this process (``main``), as a user's shell would run each command."""
+
+    def cli(*args: str) -> subprocess.CompletedProcess:
+        try:
+            code = main(list(args))
+        except SystemExit as exit_:
+            code = exit_.code
+        out = capsys.readouterr()
+        return subprocess.CompletedProcess(args, code or 0, out.out, out.err)
+
     run_dir = tmp_path / "run"
     sets = ["learning_starts=50", "batch_size=32", "policy_kwargs.net_arch=[16,16]", "eval_freq=100"]
     args = ["train", "--env", REACH, "--action-mode", "ee_delta", "--algo", "sac_her", "--steps", "100"]
