@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import gc
 import os
+from pathlib import Path
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 # One torch thread per test process (and per `train` it starts): the suite runs one
@@ -18,6 +19,10 @@ import pytest  # noqa: E402
 import unified_manip  # noqa: E402
 
 ALL_IDS = list(unified_manip.TASKS)
+GRIDS = Path(__file__).resolve().parents[1] / "baselines" / "grids"
+#: Every committed grid that loads in a fresh clone: all of ``baselines/grids`` but
+#: ``studies/``, whose grids read datasets made by ``baselines/grids/studies/make_datasets.sh``.
+COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.relative_to(GRIDS).parts)
 ID_MODES = [(tid, mode) for tid, spec in unified_manip.TASKS.items() for mode in spec.action_modes]
 ID_MODE_REWARDS = [(tid, mode, r) for tid, mode in ID_MODES for r in unified_manip.REWARD_TYPES]
 

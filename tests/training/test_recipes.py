@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 import torch
 import yaml
+from conftest import COMMITTED_GRIDS
 
 import unified_manip
 from unified_manip.experiments.grid import load_grid
@@ -116,7 +117,7 @@ def test_every_hyperparameter_entry_loads_and_type_checks(algo):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("grid", sorted((ROOT / "baselines" / "grids").rglob("*.yaml")), ids=lambda p: p.stem)
+@pytest.mark.parametrize("grid", COMMITTED_GRIDS, ids=lambda p: p.stem)
 def test_every_committed_grid_loads(grid):
     loaded = load_grid(grid)
     assert loaded.runs and all(r.steps > 0 for r in loaded.runs)

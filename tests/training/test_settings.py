@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import interrupt_after_first_checkpoint, resume_to_the_end
+from conftest import COMMITTED_GRIDS, interrupt_after_first_checkpoint, resume_to_the_end
 from test_pretrain import _request as demonstrated_request
 
 from unified_manip.experiments.grid import GridError, load_grid
@@ -160,7 +160,7 @@ def test_a_grid_override_of_a_bad_setting_names_the_grid(tmp_path):
     assert str(err.value) == f"{path}: --set 'bc_sampled=often': bc_sampled must be true or false, got 'often'"
 
 
-@pytest.mark.parametrize("path", sorted((ROOT / "baselines" / "grids").rglob("*.yaml")), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", COMMITTED_GRIDS, ids=lambda p: p.stem)
 def test_every_committed_grid_still_reads(path):
     assert load_grid(path).runs
 
