@@ -154,7 +154,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=120)
     python = str(venv / "bin" / "python")
     proc = subprocess.run(
-        [python, "-m", "pip", "--disable-pip-version-check", "-q", "install", str(wheel)],
+        [python, "-m", "pip", "--disable-pip-version-check", "-q", "install", "--no-compile", str(wheel)],
         capture_output=True,
         text=True,
         timeout=900,
