@@ -11,10 +11,12 @@ import pytest
 
 from unified_manip.experiments.aggregates import (
     curve_auc,
+    improvement_intervals,
     improvement_matrix,
     iqm_intervals,
     mode_scores,
     performance_profiles,
+    probability_of_improvement,
     rank_table,
 )
 from unified_manip.experiments.report import build_report
@@ -43,6 +45,24 @@ def test_probability_of_improvement_of_two_modes_by_hand():
     y = np.array([[0.5, 0.4], [0.0, 0.1]])
     poi = improvement_matrix({"x": x, "y": y})
     assert poi == pytest.approx({("x", "y"): 0.6875, ("y", "x"): 0.3125})
+
+
+def test_the_numpy_statistic_is_rliables_and_its_interval_is_seeded_and_complementary():
+    from rliable import metrics
+
+    rng = np.random.default_rng(0)
+    for _ in range(20):  # success rates on a 50-episode grid: ties happen
+        x, y = rng.integers(0, 51, size=(3, 4)) / 50, rng.integers(0, 51, size=(5, 4)) / 50
+        assert probability_of_improvement(x, y) == pytest.approx(metrics.probability_of_improvement(x, y), abs=1e-12)
+    x = np.array([[1.0, 0.2], [0.5, 0.2]])
+    y = np.array([[0.5, 0.4], [0.0, 0.1]])
+    ci = improvement_intervals({"x": x, "y": y})
+    p, low, high = ci[("x", "y")]
+    assert p == pytest.approx(0.6875) and 0.0 <= low <= p <= high <= 1.0 and low < high
+    assert ci[("y", "x")] == pytest.approx((1 - p, 1 - high, 1 - low))
+    assert improvement_intervals({"x": x, "y": y}) == ci  # seeded
+    # A mode whose every run beats every run of another: certain, whatever the resample.
+    assert improvement_intervals({"a": x + 2.0, "b": y})[("a", "b")] == (1.0, 1.0, 1.0)
 
 
 def test_performance_profile_is_the_fraction_of_runs_above_each_threshold():
@@ -142,8 +162,8 @@ def test_a_multi_task_report_writes_the_aggregate_sections_and_figures(tmp_path)
         # from each end, (0.95 + 1 + 1 + 1) / 4 = 0.9875.
         "| ee_delta | 6 | 0.99 [",
         # P(ee_delta > joint_delta): 1 on both tasks (every ee_delta run beats every joint_delta one).
-        "| ee_delta | — | 1.00 |",
-        "| joint_delta | 0.00 | — |",
+        "| ee_delta | — | 1.00 [1.00, 1.00] |",
+        "| joint_delta | 0.00 [0.00, 0.00] | — |",
         # Steps to 0.8: the arm's ee_delta runs reach it at 1,000, Fetch's at 500; joint_delta never.
         "| ee_delta | 1,000, 1,000, 1,000 | 500, 500, 500 |",
         "| joint_delta | —, —, — | —, —, — |",

@@ -17,7 +17,7 @@ from unified_manip.experiments.aggregates import (
     STEPS_THRESHOLD,
     TAUS,
     ModeScores,
-    improvement_matrix,
+    improvement_intervals,
     iqm_intervals,
     mode_scores,
     performance_profiles,
@@ -50,7 +50,8 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
     iqm = iqm_intervals(s.final)
     auc = iqm_intervals(s.auc)
     profiles, bands = performance_profiles(s.final)
-    poi = improvement_matrix(s.final)
+    poi_ci = improvement_intervals(s.final)
+    poi = {pair: p for pair, (p, _, _) in poi_ci.items()}
     ranks = rank_table(s.final)
     order = sorted(s.modes, key=lambda m: (-iqm[m][0], m))
     runs = ", ".join(f"{m} {n}" for m, (n, _) in s.runs.items())
@@ -106,12 +107,17 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
     lines += [
         "**Probability of improvement**: P(row mode > column mode), the chance that a run of the row's mode "
         "scores a higher final success than a run of the column's on the same task (ties half), averaged "
-        "over tasks.",
+        "over tasks; in brackets its 95% stratified-bootstrap interval.",
         "",
         "| P(row > column) | " + " | ".join(order) + " |",
         "|---|" + "---:|" * len(order),
     ]
-    lines += [f"| {x} | " + " | ".join("—" if x == y else f"{poi[(x, y)]:.2f}" for y in order) + " |" for x in order]
+    lines += [
+        f"| {x} | "
+        + " | ".join("—" if x == y else "{:.2f} [{:.2f}, {:.2f}]".format(*poi_ci[(x, y)]) for y in order)
+        + " |"
+        for x in order
+    ]
     fig = _plot_improvement(order, poi, out / f"{stem}_improvement.png")
     lines += ["", f"![Probability of improvement, {algo}, {reward}]({fig.name})", ""]
     lines += [
