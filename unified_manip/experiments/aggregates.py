@@ -8,7 +8,7 @@ scores (success rates, already on a common 0-1 scale), and:
   stratified bootstrap interval (runs resampled within each task);
 * :func:`performance_profiles`: the fraction of runs whose score exceeds each threshold,
   with its stratified bootstrap band;
-* :func:`improvement_matrix`: P(X > Y) of each mode over each other, the Mann-Whitney
+* :func:`improvement_intervals`: P(X > Y) of each mode over each other, the Mann-Whitney
   probability within each task averaged over tasks;
 * :func:`curve_auc` and :func:`~unified_manip.experiments.targets.steps_to`: sample
   efficiency from each run's evaluation curve;
@@ -126,19 +126,6 @@ def performance_profiles(
         return rly.create_performance_profile(scores, taus, reps=REPS, confidence_interval_size=CONFIDENCE)
 
 
-def improvement_matrix(scores: dict[str, np.ndarray]) -> dict[tuple[str, str], float]:
-    """``(x, y) -> P(X > Y)`` for every ordered pair of distinct modes (rliable's
-    probability of improvement: ties count half, averaged over tasks)."""
-    from rliable import metrics
-
-    return {
-        (x, y): float(metrics.probability_of_improvement(scores[x], scores[y]))
-        for x in scores
-        for y in scores
-        if x != y
-    }
-
-
 def probability_of_improvement(x: np.ndarray, y: np.ndarray) -> float:
     """rliable's ``metrics.probability_of_improvement`` (runs x tasks arrays: the
     Mann-Whitney U statistic of each task over its run pairs, ties half, averaged over
@@ -152,7 +139,7 @@ def probability_of_improvement(x: np.ndarray, y: np.ndarray) -> float:
 def improvement_intervals(
     scores: dict[str, np.ndarray], seed: int = SEED
 ) -> dict[tuple[str, str], tuple[float, float, float]]:
-    """``(x, y) -> (P(X > Y), low, high)``: :func:`improvement_matrix` with rliable's 95%
+    """``(x, y) -> (P(X > Y), low, high)``: :func:`probability_of_improvement` with rliable's 95%
     stratified-bootstrap interval (each mode's runs resampled within each task). Each
     unordered pair is bootstrapped once; ``(y, x)`` is its complement, ``1 - p`` with the
     interval ``[1 - high, 1 - low]``, as ties count half."""

@@ -82,6 +82,12 @@ def _matches(combo: dict[str, str], cell: dict[str, Any]) -> bool:
     return all(combo[k] == v for k, v in cell.items())
 
 
+def _check_cell_keys(path: Path, cell: dict[str, Any], where: str, more: str) -> None:
+    bad = [k for k in cell if k not in ONLY_KEYS]
+    if bad:
+        raise GridError(f"{path}: unknown key {bad[0]!r} in {where}; expected {', '.join(ONLY_KEYS)}{more}")
+
+
 def _cell_overrides(path: Path, entries: Any) -> list[tuple[dict[str, Any], list[str]]]:
     """``cell_overrides``: ``[{task: ..., action_mode: ..., set: [key=value, ...]}, ...]``, settings
     for the runs whose keys (from ``only``'s) match, applied after ``overrides``."""
@@ -94,11 +100,7 @@ def _cell_overrides(path: Path, entries: Any) -> list[tuple[dict[str, Any], list
         if not isinstance(values, list) or not all(isinstance(v, str) for v in values):
             raise GridError(f"{path}: cell_overrides must be {shape}, got {entry!r}")
         cell = {k: v for k, v in entry.items() if k != "set"}
-        bad = [k for k in cell if k not in ONLY_KEYS]
-        if bad:
-            raise GridError(
-                f"{path}: unknown key {bad[0]!r} in cell_overrides; expected {', '.join(ONLY_KEYS)} and set"
-            )
+        _check_cell_keys(path, cell, "cell_overrides", " and set")
         out.append((cell, values))
     return out
 
@@ -168,9 +170,7 @@ def load_grid(path: Path) -> Grid:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
             raise GridError(f"{path}: only must be a non-empty list of mappings with keys from {', '.join(ONLY_KEYS)}")
         for entry in only:
-            bad = [k for k in entry if k not in ONLY_KEYS]
-            if bad:
-                raise GridError(f"{path}: unknown key {bad[0]!r} in only; expected {', '.join(ONLY_KEYS)}")
+            _check_cell_keys(path, entry, "only", "")
     cell_overrides = _cell_overrides(path, doc.get("cell_overrides", []))
     runs = []
     checked: set[tuple[str, str]] = set()
