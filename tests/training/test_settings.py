@@ -300,7 +300,12 @@ def test_every_committed_config_yaml_reads_its_run_settings():
     runs = [rundir.run_settings(c.parent, rundir.read_config(c.parent))[0] for c in configs]
     # The committed studies' demonstration levers, as their grids set them.
     # Episode counts of the scripted policy, or (the bc pilot) the dataset each mode cloned.
-    assert {r.demos.demonstrations for r in runs} == {0, 100, "/tmp/all100/Arm4PickAndPlace-v0-{action_mode}-v0"}
+    assert {r.demos.demonstrations for r in runs} == {
+        0,
+        100,
+        "/tmp/all100/Arm4PickAndPlace-v0-{action_mode}-v0",
+        "data/{task}/{action_mode}-v0",  # issue 40's study: one dataset per task and mode
+    }
     assert {r.demos.bc_steps for r in runs} == {0, 5000}
     assert {r.cloning_loss.bc_weight for r in runs} == {0.0, 1.6, 2.0, 1000}
     assert {r.offline.offline_steps for r in runs} == {0, 10000}
