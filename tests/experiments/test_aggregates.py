@@ -177,3 +177,63 @@ def test_a_multi_task_report_writes_the_aggregate_sections_and_figures(tmp_path)
     write_results(bench, [r for r in _multi_task_rows() if r["task"] == ARM])
     text = build_report(bench / "results.csv", tmp_path / "one", command="r", dense_check=False).read_text()
     assert "## Aggregates across tasks" not in text
+
+
+def _design_rows() -> list[dict]:
+    """An observation study: two tasks, each in its own action mode, three designs, 2 seeds."""
+    rows = []
+    for task, mode in ((ARM, "ee_delta"), (FETCH, "native")):
+        for design, finals in (("default", (0.9, 1.0)), ("minimal", (0.1, 0.3)), ("default+distractors32", (0.6, 0.8))):
+            for seed, final in enumerate(finals):
+                row = _row(task, mode, seed, [[500, final / 2], [1000, final]])
+                row["observation"] = design
+                row["run"] = row["run"].replace("__s", "" if design == "default" else f"__obs-{design}__s")
+                rows.append(row)
+    return rows
+
+
+def test_observation_designs_are_compared_per_task_and_pair_with_their_modes(tmp_path):
+    write_results(tmp_path, _design_rows())
+    from unified_manip.experiments.results import read_results
+
+    rows = read_results(tmp_path / "results.csv")
+    s = mode_scores(rows, "observation")
+    # Each task ran one action mode, so the tasks are the problems and every design ran on both.
+    assert s.tasks == (ARM, FETCH) and s.modes == ("default", "default+distractors32", "minimal")
+    np.testing.assert_allclose(s.final["minimal"], [[0.1, 0.1], [0.3, 0.3]])
+    # Compared by action mode, every mode misses the other task: nothing to aggregate.
+    assert mode_scores(rows, "action_mode").modes == ()
+    # Where the other factor varies, each (task, value) pair is a problem of its own.
+    mixed = [r for r in rows if r["task"] == ARM] + [
+        {**r, "action_mode": "joint_delta"} for r in rows if r["task"] == ARM
+    ]
+    assert mode_scores(mixed, "observation").tasks == (f"{ARM} (ee_delta)", f"{ARM} (joint_delta)")
+
+
+@pytest.mark.slow
+def test_a_report_of_observation_designs_ranks_and_aggregates_them(tmp_path):
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    write_results(bench, _design_rows())
+    out = tmp_path / "report"
+    text = build_report(bench / "results.csv", out, command="r", dense_check=False).read_text()
+    table = text[text.index("## Final success rate") :]
+    assert "| task | algo | action mode | observation | reward |" in table
+    assert "| Arm4Reach-v0 | tqc_her | ee_delta | default+distractors32 | sparse | 2 | 0.70 |" in table
+    ranking = text[text.index("## Ranking of observation designs") :]
+    for needle in (
+        "**FetchReach-v0**, tqc_her, native, sparse reward:",
+        "| 1 | default | 0.95 | — |",
+        "| 2 | default+distractors32 | 0.70 |",
+        "| 3 | minimal | 0.20 | 1.00 |",  # both default runs beat both minimal ones
+    ):
+        assert needle in ranking, needle
+    aggregates = text[text.index("### Observation designs: tqc_her, sparse reward") :]
+    assert "Observation designs run on all 2 tasks (Arm4Reach-v0, FetchReach-v0)" in aggregates
+    assert "| observation design | runs | IQM final success" in aggregates
+    assert "| default | — | 1.00 [1.00, 1.00] | 1.00 [1.00, 1.00] |" in aggregates  # P(row > column)
+    for name in ("iqm", "profile", "improvement"):
+        png = out / f"aggregates_tqc_her_sparse_observation_{name}.png"
+        assert png.stat().st_size > 10_000 and f"({png.name})" in aggregates
+    assert "## Ranking of action modes" not in text and "### tqc_her, sparse reward" not in text
+    assert (out / "Arm4Reach-v0_final.png").stat().st_size > 10_000  # one bar per design

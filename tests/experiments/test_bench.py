@@ -458,7 +458,7 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     assert (tmp_path / "report" / "Arm4Reach-v0_final.png").stat().st_size > 10_000
     groups = {}
     for r in _fixture_rows():
-        groups.setdefault((r["algo"], r["action_mode"], r["reward_type"]), []).append(r)
+        groups.setdefault((r["algo"], r["action_mode"], r["reward_type"], "default"), []).append(r)
     bars = final_bars(groups)
     assert [(b.label, round(b.mean, 6), b.values) for b in bars] == [
         ("ee_delta", 0.5, (0.2, 0.4, 0.6, 0.8)),
@@ -466,10 +466,15 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     ]
     assert f"[{bars[0].low:.2f}, {bars[0].high:.2f}] (range of 4 seeds)" == ee[7]  # the table's interval
     mixed = {
-        ("sac_her", "ee_delta", "sparse"): groups[("sac_her", "ee_delta", "sparse")],
-        ("ppo", "ee_delta", "dense"): groups[("sac_her", "joint_delta", "sparse")],
+        ("sac_her", "ee_delta", "sparse", "default"): groups[("sac_her", "ee_delta", "sparse", "default")],
+        ("ppo", "ee_delta", "dense", "default"): groups[("sac_her", "joint_delta", "sparse", "default")],
     }
     assert [b.label for b in final_bars(mixed)] == ["sparse / sac_her", "dense / ppo"]
+    designs = {
+        ("sac_her", "ee_delta", "sparse", "default"): groups[("sac_her", "ee_delta", "sparse", "default")],
+        ("sac_her", "ee_delta", "sparse", "minimal"): groups[("sac_her", "joint_delta", "sparse", "default")],
+    }
+    assert [b.label for b in final_bars(designs)] == ["default", "minimal"]
 
 
 def test_report_states_the_demonstrations_runs_started_with(tmp_path):

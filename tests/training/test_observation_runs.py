@@ -35,6 +35,15 @@ def cli(*args: str) -> subprocess.CompletedProcess:
         ({"observation": "default"}, "Arm4Reach-v0__ee_delta__sparse__sac_her__s3"),
         ({"observation": "minimal"}, "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-minimal__s3"),
         ({"observation": ["ee_pos", "goal_rel"]}, "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-ee_pos+goal_rel__s3"),
+        ({"observation_distractors": 32}, "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-default+distractors32__s3"),
+        (
+            {"observation": "minimal", "observation_noise": 0.005, "observation_delay": 1},
+            "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-minimal+noise0.005+delay1__s3",
+        ),
+        (
+            {"observation_noise": {"ee_pos": 0.01, "goal_rel": 0.0}},
+            "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-default+noise_ee_pos0.01__s3",
+        ),
     ],
 )
 def test_run_names_carry_a_non_default_design(env_kwargs, name):
@@ -44,12 +53,15 @@ def test_run_names_carry_a_non_default_design(env_kwargs, name):
 
 @pytest.mark.slow
 def test_a_grid_crosses_observation_designs(tmp_path):
-    doc = {**TINY, "action_modes": ["ee_delta"], "seeds": [0], "observations": ["default", "relative", ["ee_pos"]]}
+    distractors = {"observation": "default", "observation_distractors": 32}
+    designs = ["default", "relative", ["ee_pos"], distractors]
+    doc = {**TINY, "action_modes": ["ee_delta"], "seeds": [0], "observations": designs}
     grid = load_grid(write_grid(tmp_path, doc))
     assert [(r.name, r.env_kwargs) for r in grid.runs] == [
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__s0", {}),
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__obs-relative__s0", {"observation": "relative"}),
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__obs-ee_pos__s0", {"observation": ["ee_pos"]}),
+        ("Arm4Reach-v0__ee_delta__sparse__sac_her__obs-default+distractors32__s0", {"observation_distractors": 32}),
     ]
 
 
@@ -69,8 +81,22 @@ def test_a_grid_crosses_observation_designs(tmp_path):
         ),
         (
             "minimal",
-            "observations must be a non-empty list of presets (default, minimal, relative, full) or lists of "
-            "group names, got 'minimal'",
+            "observations must be a non-empty list of presets (default, minimal, relative, full), lists of group "
+            "names or mappings with keys from observation, observation_distractors, observation_noise, "
+            "observation_delay, got 'minimal'",
+        ),
+        (
+            ["minimal", {"observation": "minimal", "observation_lag": 1}],
+            "unknown key 'observation_lag' in observations; expected observation, observation_distractors, "
+            "observation_noise, observation_delay",
+        ),
+        (
+            ["minimal", ["minimal"]],
+            "observation design 'minimal' is listed twice",
+        ),
+        (
+            [{"observation": "default", "observation_distractors": -2}],
+            "observation_distractors must be an int >= 0, got -2",
         ),
     ],
 )

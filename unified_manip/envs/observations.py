@@ -143,6 +143,27 @@ def observation_label(observation: str | Sequence[str]) -> str:
     return observation if isinstance(observation, str) else "+".join(observation)
 
 
+def design_label(env_kwargs: Mapping[str, Any]) -> str:
+    """A run's observation design as run names and result tables show it: the
+    :func:`observation_label`, then each training-time perturbation not at its default
+    (``default+distractors32``, ``relative+noise0.01``, ``minimal+delay1``; a per-group noise
+    reads ``+noise_joint_pos0.01_object_pos0.02``)."""
+    label = observation_label(env_kwargs.get("observation", "default"))
+    distractors = env_kwargs.get("observation_distractors", 0)
+    noise = env_kwargs.get("observation_noise", 0.0)
+    delay = env_kwargs.get("observation_delay", 0)
+    if distractors:
+        label += f"+distractors{distractors}"
+    if isinstance(noise, Mapping):
+        if any(noise.values()):
+            label += "+noise_" + "_".join(f"{g}{s:g}" for g, s in noise.items() if s)
+    elif noise:
+        label += f"+noise{noise:g}"
+    if delay:
+        label += f"+delay{delay}"
+    return label
+
+
 def parse_observation(text: str) -> str | list[str]:
     """``--observation``'s value: a preset name, or group names separated by commas (a
     list, as YAML writes it in ``config.yaml``; one name that is not a preset is a list of one)."""

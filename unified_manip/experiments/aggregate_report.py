@@ -1,6 +1,7 @@
-"""The report's cross-task aggregates per action mode: Markdown and figures.
+"""The report's cross-task aggregates per action mode, and per observation design: Markdown
+and figures.
 
-Written when a setting's results span more than one task and more than one mode that ran
+Written when a setting's results span more than one task and more than one mode (or design) that ran
 on all of them (:func:`aggregate_section`); the numbers are :mod:`.aggregates`'.
 """
 
@@ -12,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.experiments.aggregates import (
+    FACTORS,
     REPS,
     SEED,
     STEPS_THRESHOLD,
@@ -35,17 +37,26 @@ def aggregate_section(rows: list[dict[str, Any]], out: Path) -> list[str]:
     at least two tasks and at least two modes run on every one of them; figures go to
     ``out``. No lines where no setting qualifies."""
     lines: list[str] = []
-    for (algo, reward), setting_rows in settings(rows).items():
-        scores = mode_scores(setting_rows)
-        if len(scores.tasks) > 1 and len(scores.modes) > 1:
-            lines += _setting_lines(scores, algo, reward, out)
+    for factor in FACTORS:
+        for (algo, reward), setting_rows in settings(rows).items():
+            scores = mode_scores(setting_rows, factor)
+            if len(scores.tasks) > 1 and len(scores.modes) > 1:
+                lines += _setting_lines(scores, algo, reward, out, factor)
     if not lines:
         return []
     return ["## Aggregates across tasks", "", *lines]
 
 
-def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str]:
-    stem = f"aggregates_{algo}_{reward}"
+#: How the report names each compared factor (one, many), and its figures' file suffix.
+_WORDS = {
+    "action_mode": ("action mode", "Action modes", "", "mode"),
+    "observation": ("observation design", "Observation designs", "_observation", "design"),
+}
+
+
+def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str = "action_mode") -> list[str]:
+    what, whats, suffix, short = _WORDS[factor]
+    stem = f"aggregates_{algo}_{reward}{suffix}"
     names = [t.split("/")[-1] for t in s.tasks]
     iqm = iqm_intervals(s.final)
     auc = iqm_intervals(s.auc)
@@ -57,10 +68,10 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
     runs = ", ".join(f"{m} {n}" for m, (n, _) in s.runs.items())
     cut = {m: c for m, (_, c) in s.runs.items() if c}
     lines = [
-        f"### {algo}, {reward} reward",
+        f"### {'' if factor == 'action_mode' else whats + ': '}{algo}, {reward} reward",
         "",
-        f"Action modes run on all {len(s.tasks)} tasks ({', '.join(names)}), their runs per task: {runs}. "
-        "Each mode's final success over all its runs of all tasks; intervals are rliable's stratified "
+        f"{whats} run on all {len(s.tasks)} tasks ({', '.join(names)}), their runs per task: {runs}. "
+        f"Each {short}'s final success over all its runs of all tasks; intervals are rliable's stratified "
         f"bootstrap (runs resampled within each task, {REPS:,} resamples, 95%, seed {SEED}).",
         *(
             [
@@ -75,7 +86,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
         ),
         *(
             [
-                "Runs beyond a mode's fewest on any task are left out (lowest seeds kept): "
+                f"Runs beyond a {short}'s fewest on any task are left out (lowest seeds kept): "
                 + ", ".join(f"{m} {c}" for m, c in cut.items())
                 + "."
             ]
@@ -83,7 +94,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
             else []
         ),
         "",
-        "| action mode | runs | IQM final success [95% CI] | IQM area under the success curve [95% CI] | mean rank |",
+        f"| {what} | runs | IQM final success [95% CI] | IQM area under the success curve [95% CI] | mean rank |",
         "|---|---:|---|---|---:|",
     ]
     for m in order:
@@ -97,7 +108,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
         "",
         "**Performance profile**: the fraction of runs (all tasks) whose final success exceeds τ.",
         "",
-        "| action mode | " + " | ".join(f"τ = {t}" for t in PROFILE_TAUS) + " |",
+        f"| {what} | " + " | ".join(f"τ = {t}" for t in PROFILE_TAUS) + " |",
         "|---|" + "---:|" * len(PROFILE_TAUS),
     ]
     at = [int(np.argmin(np.abs(TAUS - t))) for t in PROFILE_TAUS]
@@ -105,7 +116,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
     fig = _plot_profiles(order, profiles, bands, out / f"{stem}_profile.png")
     lines += ["", f"![Performance profile, {algo}, {reward}]({fig.name})", ""]
     lines += [
-        "**Probability of improvement**: P(row mode > column mode), the chance that a run of the row's mode "
+        f"**Probability of improvement**: P(row {short} > column {short}), the chance that a run of the row's {short} "
         "scores a higher final success than a run of the column's on the same task (ties half), averaged "
         "over tasks; in brackets its 95% stratified-bootstrap interval.",
         "",
@@ -118,13 +129,13 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
         + " |"
         for x in order
     ]
-    fig = _plot_improvement(order, poi, out / f"{stem}_improvement.png")
+    fig = _plot_improvement(order, poi, out / f"{stem}_improvement.png", short)
     lines += ["", f"![Probability of improvement, {algo}, {reward}]({fig.name})", ""]
     lines += [
         f"**Sample efficiency**: environment steps to the first evaluation with success ≥ {STEPS_THRESHOLD} "
         "(per run, seed order; — where never reached), and the mean area under the success curve.",
         "",
-        "| action mode | " + " | ".join(f"{n} steps to {STEPS_THRESHOLD}" for n in names) + " | mean area |",
+        f"| {what} | " + " | ".join(f"{n} steps to {STEPS_THRESHOLD}" for n in names) + " | mean area |",
         "|---|" + "---|" * len(names) + "---:|",
     ]
     for m in order:
@@ -134,7 +145,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path) -> list[str
         "",
         "**Rank per task** by mean final success (1 = best; ties share their mean rank), the mean in parentheses.",
         "",
-        "| action mode | " + " | ".join(names) + " | mean rank |",
+        f"| {what} | " + " | ".join(names) + " | mean rank |",
         "|---|" + "---:|" * (len(names) + 1),
     ]
     for m in sorted(s.modes, key=lambda m: (ranks[m][1], m)):
@@ -194,7 +205,7 @@ def _plot_profiles(order: list[str], profiles: dict, bands: dict, path: Path) ->
     return path
 
 
-def _plot_improvement(order: list[str], poi: dict, path: Path) -> Path:
+def _plot_improvement(order: list[str], poi: dict, path: Path, short: str = "mode") -> Path:
     """P(row > column) as a matrix, each cell annotated."""
     plt = pyplot()
     matrix = np.array([[np.nan if x == y else poi[(x, y)] for y in order] for x in order])
@@ -207,7 +218,7 @@ def _plot_improvement(order: list[str], poi: dict, path: Path) -> Path:
                 ax.text(j, i, f"{matrix[i, j]:.2f}", ha="center", va="center", fontsize=7, color="w" if dark else "k")
     ax.set_xticks(range(len(order)), order, rotation=45, ha="right", fontsize=8)
     ax.set_yticks(range(len(order)), order, fontsize=8)
-    ax.set_title("P(row mode > column mode), final success", fontsize=9)
+    ax.set_title(f"P(row {short} > column {short}), final success", fontsize=9)
     fig.colorbar(image, ax=ax, fraction=0.046)
     fig.tight_layout()
     fig.savefig(path)

@@ -82,12 +82,28 @@ def settings(rows: list[dict[str, Any]]) -> dict[tuple[str, str], list[dict[str,
     return dict(sorted(out.items()))
 
 
-def mode_scores(rows: list[dict[str, Any]]) -> ModeScores:
-    """The score matrices of one setting's rows (see :class:`ModeScores`)."""
+#: What an aggregate compares, and what else tells its problems apart besides the task.
+FACTORS = {"action_mode": "observation", "observation": "action_mode"}
+
+
+def mode_scores(rows: list[dict[str, Any]], factor: str = "action_mode") -> ModeScores:
+    """The score matrices of one setting's rows (see :class:`ModeScores`), comparing the
+    values of ``factor`` (a key of :data:`FACTORS`). Its problems are the tasks; where the
+    rows' other factor varies within a task, each (task, other factor) pair is a problem of its own,
+    named ``"<task> (<value>)"``: observation designs on tasks run in different action modes."""
+    other = FACTORS[factor]
+    values: dict[str, set[str]] = defaultdict(set)
+    for r in rows:
+        values[r["task"]].add(r.get(other) or "default")
+    split = any(len(v) > 1 for v in values.values())
+
+    def problem(r: dict[str, Any]) -> str:
+        return f"{r['task']} ({r.get(other) or 'default'})" if split else r["task"]
+
     cells: dict[str, dict[str, list[dict[str, Any]]]] = defaultdict(lambda: defaultdict(list))
     for r in rows:
-        cells[r["action_mode"]][r["task"]].append(r)
-    tasks = tuple(sorted({r["task"] for r in rows}))
+        cells[r.get(factor) or "default"][problem(r)].append(r)
+    tasks = tuple(sorted({problem(r) for r in rows}))
     left_out = {m: tuple(t for t in tasks if t not in by_task) for m, by_task in cells.items()}
     left_out = {m: missing for m, missing in sorted(left_out.items()) if missing}
     modes = tuple(sorted(m for m in cells if m not in left_out))

@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.experiments.results import setting_label
+
 #: The logged scalars plotted, with their axis labels.
 TAGS: dict[str, str] = {
     "rollout/success_rate": "training success\n(last 100 episodes)",
@@ -67,7 +69,7 @@ def plot_training(
 
     fig, axes = plt.subplots(1, len(TAGS), figsize=(11, 3.8), dpi=110)
     drawn = False
-    for (algo, mode, reward), runs in sorted(groups.items()):
+    for key, runs in sorted(groups.items()):
         curves = [read_scalars(runs_dir / r["run"]) for r in runs if (runs_dir / r["run"] / "tb").is_dir()]
         color = None
         for ax, tag in zip(axes, TAGS):
@@ -79,7 +81,7 @@ def plot_training(
             with warnings.catch_warnings():  # steps before any run's first log are all NaN: left blank
                 warnings.simplefilter("ignore", RuntimeWarning)
                 mean, low, high = np.nanmean(ys, axis=0), np.nanmin(ys, axis=0), np.nanmax(ys, axis=0)
-            (line,) = ax.plot(grid, mean, color=color, label=f"{mode} / {reward} / {algo} (n={len(series)})")
+            (line,) = ax.plot(grid, mean, color=color, label=f"{setting_label(key)} (n={len(series)})")
             color = line.get_color()
             if len(ys) > 1:
                 ax.fill_between(grid, low, high, color=color, alpha=0.2)

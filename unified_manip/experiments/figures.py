@@ -13,6 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from unified_manip.experiments.results import setting_label
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 
 
@@ -28,9 +29,10 @@ def interval_label(seed_counts) -> str:
     return f"range of the seeds where n < {MIN_SEEDS_FOR_CI}, 95% bootstrap CI where n ≥ {MIN_SEEDS_FOR_CI}"
 
 
-#: A group key is (algo, action mode, reward); labels name its parts in this order of
-#: the key's indices (action mode, reward, algo): what a reader compares first.
-_LABEL_ORDER = (1, 2, 0)
+#: A group key is :data:`~unified_manip.experiments.results.SETTING`; labels name its parts in
+#: this order of the key's indices (action mode, observation, reward, algo): what a reader
+#: compares first.
+_LABEL_ORDER = (1, 3, 2, 0)
 
 
 class Bar(NamedTuple):
@@ -91,9 +93,9 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
     are drawn as dashed lines."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=110)
-    for (algo, mode, reward), runs in sorted(groups.items()):
+    for key, runs in sorted(groups.items()):
         steps, mean, low, high = curve_band(runs)
-        (line,) = ax.plot(steps, mean, marker="o", ms=3, label=f"{mode} / {reward} / {algo} (n={len(runs)})")
+        (line,) = ax.plot(steps, mean, marker="o", ms=3, label=f"{setting_label(key)} (n={len(runs)})")
         if np.isfinite(low).any():
             ax.fill_between(steps, low, high, color=line.get_color(), alpha=0.2, linewidth=0)
     for level, label in _target_lines(targets):

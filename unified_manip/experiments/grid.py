@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.observations import PRESETS, build_stream, observation_label
+from unified_manip.envs.observations import PRESETS, build_stream, design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.envs.setup import env_setup
@@ -53,7 +53,7 @@ class RunSpec:
     overrides: tuple[str, ...]
     n_envs: int | None = None  # None: the hyperparameter file's n_envs, else 1
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # extra gym.make keyword arguments
-    observation: str | tuple[str, ...] = "default"  # the observation design (also in env_kwargs unless default)
+    observation: str = "default"  # the design's label (design_label); the design is in env_kwargs
 
     @property
     def name(self) -> str:
@@ -181,7 +181,7 @@ def load_grid(path: Path) -> Grid:
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
             sets += tuple(v for cell, values in cell_overrides if _matches(combo, cell) for v in values)
-            kwargs = env_kwargs if o == "default" else {**env_kwargs, "observation": o}
+            kwargs = {**env_kwargs, **o}
             try:  # every hyperparameter override is checked before anything starts
                 resolved = resolve_run(a, t, sets, action_mode=m)
                 run = replace(resolved.run, n_envs=n_envs[a] or resolved.run.n_envs)
@@ -191,13 +191,12 @@ def load_grid(path: Path) -> Grid:
                 )
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
-                if (t, observation_label(o)) not in checked:  # the task's groups (one backend per task)
+                if (t, design_label(o)) not in checked:  # the task's groups (one backend per task)
                     _check_observation(t, m, o)
-                    checked.add((t, observation_label(o)))
+                    checked.add((t, design_label(o)))
             except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
-            design = o if isinstance(o, str) else tuple(o)
-            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design))
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design_label(kwargs)))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
     return Grid(name, tuple(runs), doc)
@@ -218,24 +217,52 @@ def _env_kwargs(path: Path, value: Any) -> dict[str, Any]:
     return dict(value)
 
 
-def _observations(path: Path, value: Any) -> list[str | list[str]]:
-    """A grid's ``observations``: presets or lists of group names, one run each per design."""
-    ok = (
-        isinstance(value, list)
-        and value
-        and all(isinstance(v, str) or (isinstance(v, list) and v and all(isinstance(n, str) for n in v)) for v in value)
+#: The keys of a design given as a mapping in ``observations``: the gym.make keywords of the
+#: observation (a training-time perturbation is part of what the policy learns from).
+DESIGN_KEYS = ("observation", "observation_distractors", "observation_noise", "observation_delay")
+
+
+def _observations(path: Path, value: Any) -> list[dict[str, Any]]:
+    """A grid's ``observations``, one run each per design: presets, lists of group names, or
+    mappings of :data:`DESIGN_KEYS` (``{observation: default, observation_distractors: 32}``).
+    Each design comes back as its ``gym.make`` keywords (none for the default design)."""
+
+    def groups(v: Any) -> bool:
+        return isinstance(v, str) or (isinstance(v, list) and bool(v) and all(isinstance(n, str) for n in v))
+
+    shape = (
+        f"a non-empty list of presets ({', '.join(PRESETS)}), lists of group names or mappings with keys "
+        f"from {', '.join(DESIGN_KEYS)}"
     )
-    if not ok:
-        raise GridError(
-            f"{path}: observations must be a non-empty list of presets ({', '.join(PRESETS)}) or lists of "
-            f"group names, got {value!r}"
-        )
-    return value
+    if not isinstance(value, list) or not value:
+        raise GridError(f"{path}: observations must be {shape}, got {value!r}")
+    designs = []
+    for v in value:
+        if isinstance(v, dict):
+            unknown = [k for k in v if k not in DESIGN_KEYS]
+            if unknown:
+                raise GridError(
+                    f"{path}: unknown key {unknown[0]!r} in observations; expected {', '.join(DESIGN_KEYS)}"
+                )
+            if not groups(v.get("observation", "default")):
+                raise GridError(f"{path}: observations must be {shape}, got {v!r}")
+            design = dict(v)
+        elif groups(v):
+            design = {"observation": v}
+        else:
+            raise GridError(f"{path}: observations must be {shape}, got {value!r}")
+        designs.append({k: d for k, d in design.items() if not (k == "observation" and d == "default")})
+    labels = [design_label(d) for d in designs]
+    repeated = sorted({x for x in labels if labels.count(x) > 1})
+    if repeated:
+        raise GridError(f"{path}: observation design {repeated[0]!r} is listed twice")
+    return designs
 
 
-def _check_observation(task: str, mode: str, observation: Any) -> None:
-    """The env's own check of an observation design on ``task`` (builds one backend)."""
-    setup = env_setup(task, action_mode=mode, observation=observation)
+def _check_observation(task: str, mode: str, design: dict[str, Any]) -> None:
+    """The env's own check of an observation design (its gym.make keywords) on ``task``
+    (builds one backend)."""
+    setup = env_setup(task, action_mode=mode, **design)
     backend = setup.build_backend()
     try:
         backend.reset(np.random.default_rng(0))

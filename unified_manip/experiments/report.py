@@ -22,15 +22,17 @@ import yaml
 
 from unified_manip.experiments.aggregate_report import aggregate_section
 from unified_manip.experiments.figures import plot_final, plot_task
-from unified_manip.experiments.results import read_results
-from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, probability_of_improvement, seed_interval
+from unified_manip.experiments.rankings import Groups, config_rankings, design_rankings
+from unified_manip.experiments.results import read_results, setting_key
+from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 
 
-def _group(rows: list[dict[str, Any]]) -> dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]]:
-    out: dict[str, dict[tuple[str, str, str], list[dict[str, Any]]]] = defaultdict(lambda: defaultdict(list))
+def _group(rows: list[dict[str, Any]]) -> Groups:
+    """Rows by task, then by setting (:func:`~unified_manip.experiments.results.setting_key`)."""
+    out: Groups = defaultdict(lambda: defaultdict(list))
     for r in rows:
-        out[r["task"]][(r["algo"], r["action_mode"], r["reward_type"])].append(r)
+        out[r["task"]][setting_key(r)].append(r)
     return out
 
 
@@ -147,17 +149,20 @@ def build_report(
 
     targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
+    designs = any(r["observation"] != "default" for r in rows)  # a column only where some run has one
     lines += [
-        "| task | algo | action mode | reward | seeds | mean | interval | IQM [95% CI] | per seed |",
-        "|---|---|---|---|---:|---:|---|---|---|",
+        f"| task | algo | action mode |{' observation |' if designs else ''} reward | seeds | mean | interval | "
+        "IQM [95% CI] | per seed |",
+        f"|---|---|---|{'---|' if designs else ''}---|---:|---:|---|---|---|",
     ]
     for task, groups in by_task.items():
-        for (algo, mode, reward), runs in sorted(groups.items()):
+        for (algo, mode, reward, design), runs in sorted(groups.items()):
             vals = [r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"])]
             iqm = iqm_with_ci(vals)
             iqm_s = f"{iqm[0]:.2f} [{iqm[1]:.2f}, {iqm[2]:.2f}]" if iqm else f"— (under {MIN_SEEDS_FOR_CI} seeds)"
             lines.append(
-                f"| {task.split('/')[-1]} | {algo} | {mode} | {reward} | {len(vals)} | {np.mean(vals):.2f} | "
+                f"| {task.split('/')[-1]} | {algo} | {mode} |{f' {design} |' if designs else ''} {reward} | "
+                f"{len(vals)} | {np.mean(vals):.2f} | "
                 f"{seed_interval(vals).text() or '—'} | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
             )
     lines.append("")
@@ -176,30 +181,9 @@ def build_report(
         lines += [f"![{task}]({fig.name})", ""]
     lines += _training_section(by_task, bench_dir / "runs", out)
 
-    if any(len({m for _, m, _ in g}) > 1 for g in by_task.values()):
-        lines += ["## Ranking of action modes", ""]
-    for task, groups in by_task.items():
-        by_setting: dict[tuple[str, str], dict[str, list[float]]] = defaultdict(dict)
-        for (algo, mode, reward), runs in groups.items():
-            by_setting[(algo, reward)][mode] = [r["final_success_rate"] for r in runs]
-        for (algo, reward), modes in sorted(by_setting.items()):
-            if len(modes) < 2:
-                continue
-            lines += [f"**{task.split('/')[-1]}**, {algo}, {reward} reward:", ""]
-            lines += _ranking_table(["action mode"], {(mode,): vals for mode, vals in modes.items()})
-
+    lines += design_rankings(by_task)
     lines += aggregate_section(rows, out)
-
-    configs_by_task = {t: g for t, g in by_task.items() if len({m for _, m, _ in g}) == 1 and len(g) > 1}
-    if configs_by_task:
-        lines += ["## Ranking of algorithm and reward settings", ""]
-        for task, groups in configs_by_task.items():
-            mode = next(iter(groups))[1]
-            lines += [f"**{task.split('/')[-1]}**, {mode} mode:", ""]
-            lines += _ranking_table(
-                ["algo", "reward"],
-                {(algo, reward): [r["final_success_rate"] for r in runs] for (algo, _, reward), runs in groups.items()},
-            )
+    lines += config_rankings(by_task)
 
     if claims:
         lines += ["## Against the design document's claims", ""]
@@ -253,22 +237,6 @@ def _training_section(by_task: dict, runs_dir: Path, out: Path) -> list[str]:
         "",
     ]
     return lines + [line for task, fig in figs if fig for line in (f"![{task} training]({fig.name})", "")]
-
-
-def _ranking_table(columns: list[str], settings: dict[tuple[str, ...], list[float]]) -> list[str]:
-    """Markdown rows ranking ``settings`` (label -> final success per seed) by mean, with
-    rliable's probability that the best beats each one."""
-    ranked = sorted(settings.items(), key=lambda kv: -np.mean(kv[1]))
-    best = ranked[0][1]
-    lines = [
-        f"| rank | {' | '.join(columns)} | mean final success | P(best > this) |",
-        "|---:|" + "---|" * len(columns) + "---:|---:|",
-    ]
-    for i, (label, vals) in enumerate(ranked, 1):
-        enough = len(vals) >= 2 and len(best) >= 2
-        poi = "—" if i == 1 else (f"{probability_of_improvement(best, vals):.2f}" if enough else "— (one seed)")
-        lines.append(f"| {i} | {' | '.join(label)} | {np.mean(vals):.2f} | {poi} |")
-    return lines + [""]
 
 
 def claims_section(rows: list[dict[str, Any]], claims: dict) -> list[str]:

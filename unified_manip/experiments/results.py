@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from unified_manip.envs.observations import observation_label
+from unified_manip.envs.observations import design_label
 from unified_manip.training.rundir import CONFIG, read_status
 from unified_manip.training.settings import demonstration_record
 
@@ -34,9 +34,25 @@ RESULT_COLUMNS = (
 #: (episodes, transitions, success of the scripted episodes it started with, and its
 #: demonstration settings under their hyperparameter names), JSON or "". Read back with
 #: every setting under its own name (older records' names are mapped, defaults filled in).
-#: ``observation``: the run's observation design (``observation_label``); "" in older
+#: ``observation``: the run's observation design (``design_label``); "" in older
 #: files, which is the default design.
 OPTIONAL_COLUMNS = ("demonstrations", "observation")
+
+
+#: A setting's key: what its runs share besides the task and the seed. Reports group by it.
+SETTING = ("algo", "action_mode", "reward_type", "observation")
+
+
+def setting_key(row: dict[str, Any]) -> tuple[str, str, str, str]:
+    """A row's (algo, action mode, reward type, observation design), as :data:`SETTING`."""
+    return (row["algo"], row["action_mode"], row["reward_type"], row.get("observation") or "default")
+
+
+def setting_label(key: tuple[str, str, str, str]) -> str:
+    """``mode / reward / algo``, with the design after the mode unless it is the default."""
+    algo, mode, reward, observation = key
+    design = "" if observation == "default" else f" / {observation}"
+    return f"{mode}{design} / {reward} / {algo}"
 
 
 class ResultsError(ValueError):
@@ -74,7 +90,7 @@ def collect_row(run_dir: Path) -> dict[str, Any] | None:
         "steps_per_s": status["num_timesteps"] / wall if wall and wall == wall else float("nan"),
         "versions": json.dumps(config["versions"], sort_keys=True),
         "demonstrations": _demonstrations(run_dir),
-        "observation": observation_label(config["env_kwargs"].get("observation", "default")),
+        "observation": design_label(config["env_kwargs"]),
     }
 
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from unified_manip.envs.observations import observation_label
+from unified_manip.envs.observations import design_label, observation_label
 from unified_manip.envs.registry import get_task
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DEVICES
@@ -95,8 +95,8 @@ class TrainRequest:
     def directory(self) -> Path:
         if self.run_dir is not None:
             return Path(self.run_dir)
-        observation = self.env_kwargs.get("observation", "default")
-        return Path("runs") / run_name(self.env, self.action_mode, self.reward_type, self.algo, self.seed, observation)
+        design = design_label(self.env_kwargs)
+        return Path("runs") / run_name(self.env, self.action_mode, self.reward_type, self.algo, self.seed, design)
 
     def env_config(self) -> dict[str, Any]:
         return {"action_mode": self.action_mode, "reward_type": self.reward_type, **self.env_kwargs}
