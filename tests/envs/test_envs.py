@@ -71,6 +71,22 @@ def case(request):
     env.close()
 
 
+@pytest.fixture(
+    scope="module",
+    params=[pytest.param(c, id=_case_id(c), marks=pytest.mark.xdist_group("pair-" + _case_id(c))) for c in ID_MODES],
+)
+def pair(request):
+    """Two envs per ID x mode (dense_penalized: every reward term is live), shared by the
+    per-mode contracts below (each starts with seeded resets, as a user's code would) and
+    closed after the last. Making a robosuite env compiles its model (~0.7 s), so the
+    contracts share two rather than making ten."""
+    task_id, mode = request.param
+    envs = make(task_id, mode, "dense_penalized"), make(task_id, mode, "dense_penalized")
+    yield task_id, mode, *envs
+    for env in envs:
+        env.close()
+
+
 # ---------------------------------------------------------------------- checkers
 def test_gymnasium_env_checker(case):
     task_id, mode, reward, env = case
@@ -117,11 +133,10 @@ def test_spaces_and_info(case):
 
 
 # ---------------------------------------------------------------------- determinism
-def test_seeded_determinism_side_by_side(id_mode, new_env):
+def test_seeded_determinism_side_by_side(pair):
     """Two envs, same seed and actions: bit-identical rollouts, across several resets."""
-    task_id, mode = id_mode
-    env1, env2 = new_env(task_id, mode, "dense_penalized"), new_env(task_id, mode, "dense_penalized")
-    actions = random_actions(env1, 25, seed=1)  # long rollouts: the golden hashes
+    task_id, mode, env1, env2 = pair
+    actions = random_actions(env1, 10, seed=1)  # long rollouts: the golden test
     for seed in (0, 7, 0):
         _assert_same(rollout(env1, seed, actions), rollout(env2, seed, actions))
     # A different seed gives a different episode.
@@ -130,9 +145,8 @@ def test_seeded_determinism_side_by_side(id_mode, new_env):
     assert not np.array_equal(o1["desired_goal"], o2["desired_goal"])
 
 
-def test_unseeded_reset_continues_the_rng_stream(id_mode, new_env):
-    task_id, mode = id_mode
-    env1, env2 = new_env(task_id, mode), new_env(task_id, mode)
+def test_unseeded_reset_continues_the_rng_stream(pair):
+    task_id, mode, env1, env2 = pair
     env1.reset(seed=5)
     env2.reset(seed=5)
     _assert_same(env1.reset()[0], env2.reset()[0])
@@ -169,9 +183,9 @@ def test_compute_reward_equals_step_reward_batched(case):
         np.testing.assert_array_equal(env.unwrapped.compute_reward_terms(ag, ag, infos)["success"], 10.0)
 
 
-def test_compute_terminated_and_truncated(id_mode, new_env):
-    task_id, mode = id_mode
-    env = new_env(task_id, mode).unwrapped
+def test_compute_terminated_and_truncated(pair, new_env):
+    task_id, mode, env, _ = pair
+    env = env.unwrapped
     obs, info = env.reset(seed=0)
     ag = obs["achieved_goal"]
     assert not env.compute_terminated(ag, ag, info)
@@ -195,11 +209,10 @@ def test_time_limit_truncates_not_terminates(task_id, new_env):
         assert truncated == (i == n - 1)
 
 
-def test_zero_action_holds_in_every_mode(id_mode, new_env):
+def test_zero_action_holds_in_every_mode(pair):
     # Every mode's zero action keeps the episode going: no termination, no early
     # truncation (a diverging simulation truncates with a flag).
-    task_id, mode = id_mode
-    env = new_env(task_id, mode)
+    task_id, mode, env, _ = pair
     obs, _ = env.reset(seed=0)
     zeros = np.zeros(env.action_space.shape, np.float32)
     for _ in range(min(50, env.spec.max_episode_steps - 1)):
@@ -216,9 +229,8 @@ def test_max_episode_steps_kwarg(new_env):
 
 
 # ---------------------------------------------------------------------- pickling / vec
-def test_pickle_roundtrip_continues_identically(id_mode, new_env):
-    task_id, mode = id_mode
-    env = new_env(task_id, mode, "dense")
+def test_pickle_roundtrip_continues_identically(pair):
+    task_id, mode, env, _ = pair
     env.reset(seed=4)
     actions = random_actions(env, 10, seed=3)
     for a in actions[:5]:
@@ -287,9 +299,8 @@ def test_render_none_returns_none(new_env):
 
 
 # ---------------------------------------------------------------------- bad input
-def test_bad_action_shape_and_values(id_mode, new_env):
-    task_id, mode = id_mode
-    env = new_env(task_id, mode)
+def test_bad_action_shape_and_values(pair):
+    task_id, mode, env, fresh = pair
     env.reset(seed=0)
     n = env.action_space.shape[0]
     with pytest.raises(ValueError) as err:
@@ -305,9 +316,9 @@ def test_bad_action_shape_and_values(id_mode, new_env):
     bad[0] = np.inf
     with pytest.raises(ValueError, match=r"action must be finite"):
         env.step(bad)
-    # Nothing was applied by the rejected actions: the state equals a fresh reset's.
-    fresh = new_env(task_id, mode)
-    o_fresh, _ = fresh.reset(seed=0)
+    # Nothing was applied by the rejected actions: the state equals the other env's after
+    # the same seeded reset.
+    fresh.reset(seed=0)
     a = np.full(n, 5.0, np.float32)  # out of range: clipped, not an error
     _assert_same(env.step(a), fresh.step(np.ones(n, np.float32)))
 
