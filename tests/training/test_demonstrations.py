@@ -142,6 +142,65 @@ def test_in_joint_position_mode_the_translation_is_the_ee_delta_command():
     np.testing.assert_allclose(rollouts["joint_position"], rollouts["ee_delta"], atol=1e-4)
 
 
+@pytest.mark.parametrize("mode", ["ee_delta", "joint_delta"])
+def test_demonstrations_are_the_same_episodes_in_every_observation_design(mode):
+    """The scripted policy reads the state, not the agent's observation: the same actions
+    and successes under another design, recorded in that design (issue 41: demonstrations
+    must not depend on the design). Noise and distractors draw from the env's generator,
+    which also samples the next episode's goal, so with them only the seeded first episode
+    is the same."""
+    from sb3_contrib import TQC
+    from stable_baselines3 import HerReplayBuffer
+
+    from unified_manip.training.run_envs import make_vec_env
+
+    horizon = gym.spec(ARM).max_episode_steps
+    designs = {
+        "default": {},
+        "minimal, delayed": {"observation": "minimal", "observation_delay": 1},
+        "noisy, distractors": {"observation": "relative", "observation_distractors": 8, "observation_noise": 0.01},
+    }
+    stored = {}
+    for name, kwargs in designs.items():
+        config = {"action_mode": mode, "reward_type": "sparse", **kwargs}
+        venv = make_vec_env(ARM, config, 1, 7, None, "dummy")
+        model = TQC(
+            "MultiInputPolicy",
+            make_vec_env(ARM, config, 1, 0, None, "dummy"),
+            buffer_size=500,
+            replay_buffer_class=HerReplayBuffer,
+            learning_starts=10,
+            seed=0,
+        )
+        done = prefill(model, venv, ARM, mode, episodes=2)
+        buffer = model.replay_buffer
+        width = buffer.observations["observation"].shape[-1]
+        assert width == gym.make(ARM, action_mode=mode, **kwargs).observation_space["observation"].shape[0]
+        stored[name] = (done, buffer.actions[: buffer.size()].copy(), width)
+        venv.close()
+    done, actions, width = stored["default"]
+    assert done["episodes"] == 2 and done["success"] == 1.0
+    done_d, actions_d, width_d = stored["minimal, delayed"]
+    np.testing.assert_array_equal(actions_d, actions)
+    assert done_d == done and width_d != width  # recorded as the agent sees it
+    done_n, actions_n, width_n = stored["noisy, distractors"]
+    np.testing.assert_array_equal(actions_n[:horizon], actions[:horizon])
+    assert done_n["success"] == 1.0 and width_n != width
+
+
+def test_the_native_vector_env_demonstrates_only_ee_delta_in_the_default_design():
+    from unified_manip.training.run_envs import make_vec_env
+
+    venv = make_vec_env(ARM, {"action_mode": "ee_delta", "observation": "minimal"}, 2, 0, None, "native")
+    with pytest.raises(DemonstrationError) as err:
+        policies(ARM, "ee_delta", venv)
+    assert str(err.value) == (
+        "demonstrations in action_mode 'ee_delta' with observation design 'minimal' are played in a DummyVecEnv "
+        "(the scripted policy reads each env's state); this vector env can play ee_delta with the default design only"
+    )
+    venv.close()
+
+
 def _dummy(task_id: str, mode: str, n_envs: int):
     from unified_manip.training.run_envs import make_vec_env
 

@@ -3,20 +3,31 @@ uniform random actions. Each is built for one env (``env -> obs -> action``)."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from unified_manip.datasets.episodes import Policy
 from unified_manip.datasets.errors import DatasetError
 
 
 def scripted(env) -> Policy:
     """The task's scripted ``ee_delta`` policy, in ``env``'s action mode through
-    :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig."""
+    :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig.
+
+    It reads the env's state (``state_observation``: the default design, exact), not the
+    observation it is handed, so it plays the same episodes whatever the env's observation
+    design, noise or delay; what is recorded is the observation as the env gives it."""
     from unified_manip.envs.controllers.translate import EEDeltaInMode
 
     spec = env.unwrapped.task
     mode = env.unwrapped.config.action_mode
     if spec.scripted_policy is None:
         raise DatasetError(f"{spec.id} has no scripted policy; use --policy random or a trained run directory")
-    policy = spec.scripted_policy("ee_delta")
+    scripted_policy = spec.scripted_policy("ee_delta")
+    state = env.unwrapped.state_observation
+
+    def policy(obs: dict) -> Any:
+        return scripted_policy(state())
+
     if mode == "ee_delta":
         return policy
     if mode not in shared_modes(spec):

@@ -168,6 +168,17 @@ class UnifiedManipEnv(GoalEnv):
         slice of the ``observation`` vector."""
         return dict(self._stream.layout)
 
+    def state_observation(self) -> dict[str, np.ndarray]:
+        """The state now as the default design shows it, exact (no distractors, noise or
+        delay), whatever this env's design: what the tasks' scripted policies read, so that
+        demonstrations do not depend on the agent's observation design."""
+        b = self._backend
+        return {
+            "observation": np.asarray(b.observation(), dtype=np.float32),
+            "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
+            "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
+        }
+
     @property
     def backend(self):
         """The simulator running this env (to read its state; the env steps it)."""

@@ -66,27 +66,34 @@ def demonstrable_modes(task_id: str) -> list[str]:
 
 
 def policy(task_id: str, action_mode: str, env):
-    """``obs -> action`` for ``env`` (a gymnasium env of ``task_id`` in ``action_mode``;
-    unused in ``ee_delta``): the task's scripted ``ee_delta`` policy, its actions played in
-    ``action_mode`` through :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on
-    the env's own rig."""
-    from unified_manip.envs.controllers.translate import EEDeltaInMode
-    from unified_manip.envs.registry import get_task
+    """``obs -> action`` for ``env`` (a gymnasium env of ``task_id`` in ``action_mode``): the
+    task's scripted policy as :func:`unified_manip.datasets.policies.scripted` plays it,
+    reading the env's state, so demonstrations are the same episodes whatever the agent's
+    observation design; the buffer records them as the agent sees them."""
+    from unified_manip.datasets.policies import scripted
 
-    spec = get_task(task_id)
-    scripted = spec.scripted_policy("ee_delta")
-    if action_mode == "ee_delta":
-        return scripted
-    translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
-    return lambda obs: translate(scripted(obs))
+    return scripted(env)
 
 
 def policies(task_id: str, action_mode: str, venv) -> list:
-    """One :func:`policy` per env of ``venv`` (a ``DummyVecEnv``; in ``ee_delta``, which
-    needs no env's rig, any vector env)."""
-    if action_mode == "ee_delta":
-        return [policy(task_id, action_mode, None)] * venv.num_envs
-    return [policy(task_id, action_mode, env) for env in venv.envs]
+    """One :func:`policy` per env of ``venv``: in a ``DummyVecEnv`` each reads its own env's
+    state. Another kind of vector env (the native one) has no per-env state to read, so its
+    policies read the observations, which only ``ee_delta`` with the default design allows."""
+    envs = getattr(venv, "envs", None)
+    if envs is not None:
+        return [policy(task_id, action_mode, env) for env in envs]
+    from unified_manip.envs.observations import DESIGN_KEYWORDS, design_label
+    from unified_manip.envs.registry import get_task
+
+    config = venv.get_attr("config")[0]
+    design = design_label({k: getattr(config, k) for k in DESIGN_KEYWORDS})
+    if action_mode != "ee_delta" or design != "default":
+        raise DemonstrationError(
+            f"demonstrations in action_mode {action_mode!r} with observation design {design!r} are played in a "
+            "DummyVecEnv (the scripted policy reads each env's state); this vector env can play ee_delta with the "
+            "default design only"
+        )
+    return [get_task(task_id).scripted_policy("ee_delta")] * venv.num_envs
 
 
 def episodes_per_env(episodes: int, n_envs: int) -> int:
