@@ -147,3 +147,67 @@ def test_train_observation_then_eval_under_noise_and_delay(tmp_path, capsys):
     bad = cli(*args, "--run-dir", str(tmp_path / "bad"), "--observation", "object_pos")
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
     assert "observation group 'object_pos' is not available on UnifiedManip/Arm4Reach-v0" in bad.stderr
+
+
+@pytest.mark.slow
+def test_robustness_evaluates_final_policies_resumes_and_reports(tmp_path, capsys):
+    """``unified-manip robustness``: every finished run's final model under each noise and
+    delay, one row each in robustness.csv; a second pass adds nothing; the report shows it."""
+    from unified_manip.experiments.report import build_report
+    from unified_manip.experiments.results import write_results
+    from unified_manip.experiments.robustness import read_robustness
+
+    bench = tmp_path / "bench"
+    run_dir = bench / "runs" / "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-relative__s0"
+    sets = ["learning_starts=50", "batch_size=32", "policy_kwargs.net_arch=[16,16]", "eval_freq=100"]
+    args = ["train", "--env", REACH, "--action-mode", "ee_delta", "--algo", "sac_her", "--steps", "100"]
+    assert main([*args, "--run-dir", str(run_dir), "--observation", "relative", "--no-progress",
+                 *[x for s in sets for x in ("--set", s)]]) == 0  # fmt: skip
+    write_results(bench, [collect_row(run_dir)])
+    command = ["robustness", str(bench), "--noise", "0", "0.01", "--delay", "1", "--episodes", "3"]
+    assert main(command) == 0
+    assert "[3/3] Arm4Reach-v0__ee_delta__sparse__sac_her__obs-relative__s0: delay 1" in capsys.readouterr().err
+    rows = read_robustness(bench / "robustness.csv")
+    assert [(r["noise"], r["delay"], r["episodes"], r["observation"]) for r in rows] == [
+        (0.0, 0, 3, "relative"),
+        (0.01, 0, 3, "relative"),
+        (0.0, 1, 3, "relative"),
+    ]
+    # Noise 0 is the final policy's plain evaluation, as eval gives it.
+    plain = tmp_path / "plain.json"
+    assert main(["eval", str(run_dir / "final_model.zip"), "--episodes", "3", "--json", str(plain)]) == 0
+    assert json.loads(plain.read_text())["successes"] == rows[0]["successes"]
+    before = (bench / "robustness.csv").read_bytes()
+    assert main(command) == 0  # everything done: resumes to nothing
+    assert (bench / "robustness.csv").read_bytes() == before
+    assert "]" not in capsys.readouterr().err
+    text = build_report(bench / "results.csv", bench / "report", command="r", dense_check=False).read_text()
+    section = text[text.index("## Robustness of the final policies") :]
+    assert "| observation design | mode | noise 0 | noise 0.01 | delay 1 |" in section
+    assert f"| relative | ee_delta | {rows[0]['success_rate']:.2f} |" in section
+    assert (bench / "report" / "Arm4Reach-v0_robustness.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    "setup,message",
+    [
+        (lambda b: None, "has no runs/ directory; expected a bench's output directory"),
+        (lambda b: (b / "runs").mkdir(), "holds no finished run"),
+    ],
+)
+def test_robustness_refuses_what_it_cannot_evaluate_in_one_line(tmp_path, capsys, setup, message):
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    setup(bench)
+    with pytest.raises(SystemExit) as exit_:
+        main(["robustness", str(bench)])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].endswith(message), err
+
+
+def test_committed_results_without_models_are_refused():
+    from unified_manip.experiments.robustness import RobustnessError, evaluate_bench
+
+    with pytest.raises(RobustnessError, match=r"has no final_model.zip \(committed results carry no models\)"):
+        evaluate_bench(ROOT / "results" / "pixels_arm4reach", [])

@@ -174,6 +174,7 @@ COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
     "bench": ("train", "bench"),
     "report": ("bench",),
     "plot": ("bench",),
+    "robustness": ("train", "bench"),
     "collect": ("datasets",),  # and train for --policy RUN_DIR (cli.datasets)
     "replay": ("datasets",),
     "convert": ("datasets",),
@@ -191,6 +192,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from unified_manip.experiments.grid import GridError
     from unified_manip.experiments.results import ResultsError
+    from unified_manip.experiments.robustness import RobustnessError
     from unified_manip.training.hyperparams import HyperparameterError
     from unified_manip.training.request import TrainError
     from unified_manip.training.runlock import DirectoryInUse
@@ -203,6 +205,7 @@ def main(argv: list[str] | None = None) -> int:
         HyperparameterError,
         GridError,
         ResultsError,
+        RobustnessError,
         YamlFileError,
         DirectoryInUse,
         FileNotFoundError,

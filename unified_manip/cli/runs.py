@@ -129,6 +129,15 @@ def add_commands(sub) -> None:
     p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
     p.set_defaults(func=cmd_report)
 
+    p = sub.add_parser("robustness", help="evaluate a bench's final policies under observation noise and delay")
+    p.add_argument("bench", help="a bench's output directory (its runs/ with their final models)")
+    p.add_argument("--noise", type=float, nargs="+", default=[0.0, 0.005, 0.01], help="noise stds (default 0 .005 .01)")
+    p.add_argument("--delay", type=positive_int, nargs="*", default=[1], help="delays in steps (default 1)")
+    p.add_argument("--episodes", type=positive_int, default=50)
+    p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=cmd_robustness)
+
     p = sub.add_parser("plot", help="one figure of success against steps over benches, a panel per task")
     p.add_argument("results", nargs="+", help="results.csv files written by unified-manip bench")
     p.add_argument("--out", required=True, type=figure_path, help="output figure (.png, .svg or .pdf)")
@@ -242,6 +251,16 @@ def cmd_report(args: argparse.Namespace) -> int:
         dense_check=not args.no_dense_check,
         claims=claims,
     )
+    print(f"wrote {path}")
+    return 0
+
+
+def cmd_robustness(args: argparse.Namespace) -> int:
+    from unified_manip.experiments.robustness import conditions, evaluate_bench
+
+    wanted = conditions(tuple(args.noise), tuple(args.delay))
+    log = None if args.no_progress else (lambda line: print(line, file=sys.stderr, flush=True))
+    path = evaluate_bench(Path(args.bench), wanted, args.episodes, args.seed, progress=log)
     print(f"wrote {path}")
     return 0
 

@@ -143,6 +143,10 @@ def observation_label(observation: str | Sequence[str]) -> str:
     return observation if isinstance(observation, str) else "+".join(observation)
 
 
+#: The gym.make keywords (and EnvConfig fields) that make up an observation design.
+DESIGN_KEYWORDS = ("observation", "observation_distractors", "observation_noise", "observation_delay")
+
+
 def design_label(env_kwargs: Mapping[str, Any]) -> str:
     """A run's observation design as run names and result tables show it: the
     :func:`observation_label`, then each training-time perturbation not at its default

@@ -8,13 +8,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.observations import PRESETS, build_stream, design_label
+from unified_manip.envs.observations import design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
-from unified_manip.envs.setup import env_setup
+from unified_manip.experiments.designs import check_design, parse_designs
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
@@ -164,7 +162,10 @@ def load_grid(path: Path) -> Grid:
     except TargetError as err:
         raise GridError(str(err)) from None
     env_kwargs = _env_kwargs(path, doc.get("env_kwargs", {}))
-    observations = _observations(path, doc.get("observations", ["default"]))
+    try:
+        observations = parse_designs(doc.get("observations", ["default"]))
+    except ValueError as err:
+        raise GridError(f"{path}: {err}") from None
     only = doc.get("only")
     if only is not None:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
@@ -192,7 +193,7 @@ def load_grid(path: Path) -> Grid:
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)
                 if (t, design_label(o)) not in checked:  # the task's groups (one backend per task)
-                    _check_observation(t, m, o)
+                    check_design(t, m, o)
                     checked.add((t, design_label(o)))
             except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
@@ -215,60 +216,6 @@ def _env_kwargs(path: Path, value: Any) -> dict[str, Any]:
     if fixed:
         raise GridError(f"{path}: env_kwargs may not set {fixed[0]!r}; the grid's own keys choose it")
     return dict(value)
-
-
-#: The keys of a design given as a mapping in ``observations``: the gym.make keywords of the
-#: observation (a training-time perturbation is part of what the policy learns from).
-DESIGN_KEYS = ("observation", "observation_distractors", "observation_noise", "observation_delay")
-
-
-def _observations(path: Path, value: Any) -> list[dict[str, Any]]:
-    """A grid's ``observations``, one run each per design: presets, lists of group names, or
-    mappings of :data:`DESIGN_KEYS` (``{observation: default, observation_distractors: 32}``).
-    Each design comes back as its ``gym.make`` keywords (none for the default design)."""
-
-    def groups(v: Any) -> bool:
-        return isinstance(v, str) or (isinstance(v, list) and bool(v) and all(isinstance(n, str) for n in v))
-
-    shape = (
-        f"a non-empty list of presets ({', '.join(PRESETS)}), lists of group names or mappings with keys "
-        f"from {', '.join(DESIGN_KEYS)}"
-    )
-    if not isinstance(value, list) or not value:
-        raise GridError(f"{path}: observations must be {shape}, got {value!r}")
-    designs = []
-    for v in value:
-        if isinstance(v, dict):
-            unknown = [k for k in v if k not in DESIGN_KEYS]
-            if unknown:
-                raise GridError(
-                    f"{path}: unknown key {unknown[0]!r} in observations; expected {', '.join(DESIGN_KEYS)}"
-                )
-            if not groups(v.get("observation", "default")):
-                raise GridError(f"{path}: observations must be {shape}, got {v!r}")
-            design = dict(v)
-        elif groups(v):
-            design = {"observation": v}
-        else:
-            raise GridError(f"{path}: observations must be {shape}, got {value!r}")
-        designs.append({k: d for k, d in design.items() if not (k == "observation" and d == "default")})
-    labels = [design_label(d) for d in designs]
-    repeated = sorted({x for x in labels if labels.count(x) > 1})
-    if repeated:
-        raise GridError(f"{path}: observation design {repeated[0]!r} is listed twice")
-    return designs
-
-
-def _check_observation(task: str, mode: str, design: dict[str, Any]) -> None:
-    """The env's own check of an observation design (its gym.make keywords) on ``task``
-    (builds one backend)."""
-    setup = env_setup(task, action_mode=mode, **design)
-    backend = setup.build_backend()
-    try:
-        backend.reset(np.random.default_rng(0))
-        build_stream(setup.config, backend, setup.task.id)
-    finally:
-        backend.close()
 
 
 def _check(path: Path, check, values: list) -> None:

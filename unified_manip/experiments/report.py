@@ -24,6 +24,8 @@ from unified_manip.experiments.aggregate_report import aggregate_section
 from unified_manip.experiments.figures import plot_final, plot_task
 from unified_manip.experiments.rankings import Groups, config_rankings, design_rankings
 from unified_manip.experiments.results import read_results, setting_key
+from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
+from unified_manip.experiments.robustness import robustness_section
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 
@@ -184,6 +186,8 @@ def build_report(
     lines += design_rankings(by_task)
     lines += aggregate_section(rows, out)
     lines += config_rankings(by_task)
+
+    lines += robustness_section(bench_dir / ROBUSTNESS_FILE, out)
 
     if claims:
         lines += ["## Against the design document's claims", ""]
