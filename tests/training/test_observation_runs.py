@@ -14,7 +14,7 @@ import yaml
 from test_bench import TINY, write_grid
 
 from unified_manip.cli.main import main
-from unified_manip.experiments.grid import GridError, load_grid
+from unified_manip.experiments.grid import GridError, load_grid, selected
 from unified_manip.experiments.results import collect_row
 from unified_manip.training.request import TrainRequest
 
@@ -63,6 +63,11 @@ def test_a_grid_crosses_observation_designs(tmp_path):
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__obs-ee_pos__s0", {"observation": ["ee_pos"]}),
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__obs-default+distractors32__s0", {"observation_distractors": 32}),
     ]
+    # bench --only picks designs by their run-name label.
+    assert selected(grid, ("observation=default", "observation=default+distractors32")) == {
+        "Arm4Reach-v0__ee_delta__sparse__sac_her__s0",
+        "Arm4Reach-v0__ee_delta__sparse__sac_her__obs-default+distractors32__s0",
+    }
 
 
 @pytest.mark.parametrize(

@@ -44,6 +44,7 @@ def test_the_defaults_are_stated_once_and_read_flat():
         "normalize": False,
         "device": "auto",
         "n_envs": 1,
+        "compile_loss": False,
         "demonstrations": 0,
         "bc_steps": 0,
         "bc_weight": 0.0,
@@ -309,3 +310,30 @@ def test_every_committed_config_yaml_reads_its_run_settings():
     assert {r.demos.bc_steps for r in runs} == {0, 5000}
     assert {r.cloning_loss.bc_weight for r in runs} == {0.0, 1.6, 2.0, 1000}
     assert {r.offline.offline_steps for r in runs} == {0, 10000}
+
+
+@pytest.mark.slow
+def test_compile_loss_is_for_tqc_only_and_compiles_while_the_run_trains():
+    import torch
+    from sb3_contrib.tqc import tqc as tqc_module
+
+    from unified_manip.training.speedups import SpeedupError, check, compiled_loss
+
+    eager = tqc_module.quantile_huber_loss
+    gen = torch.Generator().manual_seed(0)
+    # As TQC calls it: (batch, critics, quantiles) against (batch, 1, kept target quantiles).
+    current, target = torch.randn(512, 2, 25, generator=gen), torch.randn(512, 1, 46, generator=gen)
+    with compiled_loss(True):
+        compiled = tqc_module.quantile_huber_loss
+        assert getattr(compiled, "_torchdynamo_orig_callable", None) is eager
+        value = compiled(current, target, sum_over_quantiles=False)
+    assert tqc_module.quantile_huber_loss is eager  # restored for the next run of the process
+    expected = eager(current, target, sum_over_quantiles=False)
+    torch.testing.assert_close(value, expected)
+    with compiled_loss(False):
+        assert tqc_module.quantile_huber_loss is eager
+    check("TQC", True)
+    with pytest.raises(
+        SpeedupError, match=r"compile_loss compiles TQC's quantile Huber loss; this run's algorithm is SAC"
+    ):
+        check("SAC", True)

@@ -231,7 +231,7 @@ def _plain_name(name: object) -> bool:
     return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
 
 
-SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed")
+SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed", "observation")
 
 
 def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:

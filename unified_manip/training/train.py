@@ -21,7 +21,7 @@ from typing import Any
 import yaml
 
 from unified_manip.envs.registry import get_task
-from unified_manip.training import checkpoints, rundir
+from unified_manip.training import checkpoints, rundir, speedups
 from unified_manip.training.algorithms import get_algo
 from unified_manip.training.demonstration_levers import demonstrate, keep_cloning, learn_offline_on_demonstrations
 from unified_manip.training.devices import DeviceError, resolve_device
@@ -104,12 +104,14 @@ def train(
         resolve_vec(req.vec, req.env, n_envs)
         check_demonstration_settings(req.env, req.action_mode, get_algo(req.algo).off_policy, run, req.env_config())
         check_her_warmup(req.algo, resolved.algo_kwargs, run, get_task(req.env).max_episode_steps)
+        speedups.check(get_algo(req.algo).cls().__name__, run.compile_loss)
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
     config = rundir.config_document(req, n_envs, params, argv, device)
     try:
-        with rundir.owned(run_dir, lock_wait_s):  # everything below runs as the directory's only owner
+        # everything below runs as the directory's only owner
+        with rundir.owned(run_dir, lock_wait_s), speedups.compiled_loss(run.compile_loss):
             return _train_owned(req, run, resolved.algo_kwargs, run_dir, config, progress, log, threads)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
