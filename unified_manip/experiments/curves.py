@@ -38,14 +38,18 @@ def _segments(run_dir: Path) -> list[Path]:
 
 
 def read_scalars(run_dir: Path, tags=tuple(TAGS)) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """``{tag: (steps, values)}`` for each of ``tags`` the run logged, steps increasing."""
-    from tensorboard.backend.event_processing.event_file_loader import EventFileLoader
+    """``{tag: (steps, values)}`` for each of ``tags`` the run logged, steps increasing.
+
+    The events are read as written (``LegacyEventFileLoader``): SB3 logs scalars as
+    ``simple_value``, and tensorboard's conversion of each one into a tensor summary
+    (``EventFileLoader``) took most of a report's time."""
+    from tensorboard.backend.event_processing.event_file_loader import LegacyEventFileLoader
     from tensorboard.util import tensor_util
 
     values: dict[str, dict[int, float]] = {t: {} for t in tags}
     for path in _segments(run_dir):
         segment: dict[str, dict[int, float]] = {t: {} for t in tags}
-        for event in EventFileLoader(str(path)).Load():
+        for event in LegacyEventFileLoader(str(path)).Load():
             for v in event.summary.value if event.HasField("summary") else ():
                 if v.tag in segment:
                     x = v.simple_value if v.HasField("simple_value") else tensor_util.make_ndarray(v.tensor)
