@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import gc
+import io
 import os
+import subprocess
 from pathlib import Path
 
 os.environ.setdefault("MUJOCO_GL", "egl")
@@ -25,6 +28,25 @@ GRIDS = Path(__file__).resolve().parents[1] / "baselines" / "grids"
 COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.relative_to(GRIDS).parts)
 ID_MODES = [(tid, mode) for tid, spec in unified_manip.TASKS.items() for mode in spec.action_modes]
 ID_MODE_REWARDS = [(tid, mode, r) for tid, mode in ID_MODES for r in unified_manip.REWARD_TYPES]
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def cli_in_process(*args: str) -> subprocess.CompletedProcess:
+    """``unified-manip ARGS`` run by ``main()`` in this process from the checkout's root, and
+    reported as ``subprocess.run`` would: a command in a process of its own first imports
+    torch, SB3 and the simulators, about 4.5 s of CPU each time. Tests that signal, kill or
+    time a process, or need a fresh interpreter, start one instead."""
+    from unified_manip.cli.main import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.chdir(ROOT), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(list(args))
+        except SystemExit as exit_:  # argparse and the one-line errors exit with their code
+            code = exit_.code if isinstance(exit_.code, int) else 1
+    return subprocess.CompletedProcess(list(args), code or 0, out.getvalue(), err.getvalue())
 
 
 def smoke_mode(task_id: str) -> str:

@@ -5,12 +5,12 @@ from __future__ import annotations
 import json
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import gymnasium as gym
 import imageio.v3 as iio
 import pytest
+from conftest import cli_in_process
 
 import unified_manip
 
@@ -18,9 +18,10 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def run(*args: str, check: bool = True) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, check=check, timeout=600
-    )
+    proc = cli_in_process(*args)
+    if check and proc.returncode != 0:
+        raise subprocess.CalledProcessError(proc.returncode, proc.args, proc.stdout, proc.stderr)
+    return proc
 
 
 def test_list_shows_every_id_with_modes_rewards_goal_dim_and_length():

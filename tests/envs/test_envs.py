@@ -94,7 +94,9 @@ def test_gymnasium_env_checker(case):
         warnings.simplefilter("error")  # every checker warning is a failure, except:
         # unbounded observation boxes, which gymnasium-robotics' own envs use too.
         warnings.filterwarnings("ignore", message=r".*infinity. This is probably too (low|high)")
-        gym_check_env(env.unwrapped, skip_render_check=True)
+        # Its close check makes and closes a fresh env of the ID: once per family's backend
+        # (test_closing_twice_is_allowed), not per mode and reward.
+        gym_check_env(env.unwrapped, skip_render_check=True, skip_close_check=True)
 
 
 def test_sb3_env_checker(case):
@@ -157,7 +159,7 @@ def test_compute_reward_equals_step_reward_batched(case):
     task_id, mode, reward, env = case
     env.reset(seed=11)
     ag, dg, infos, rewards = [], [], [], []
-    for a in random_actions(env, 60, seed=2):
+    for a in random_actions(env, 30, seed=2):
         obs, r, _, _, info = env.step(a)
         ag.append(obs["achieved_goal"])
         dg.append(obs["desired_goal"])
@@ -170,7 +172,7 @@ def test_compute_reward_equals_step_reward_batched(case):
     np.testing.assert_array_equal(batched, np.array(rewards))
     # Single-transition calls agree with the batch, and relabelled goals (as HER
     # does) give the reward the step would have given for that goal.
-    for i in (0, 17, 59):
+    for i in (0, 17, 29):
         assert env.unwrapped.compute_reward(ag[i], dg[i], infos[i]) == rewards[i]
     # Relabelled with the achieved goal, every transition succeeds: it never pays less,
     # and it earns the whole success term.
@@ -292,6 +294,18 @@ def test_render_rgb_array_headless(task_id, new_env):
     assert env.render().shape == (120, 160, 3)
 
 
+@pytest.mark.parametrize("task_id", ALL_IDS)
+def test_closing_twice_is_allowed(task_id):
+    """Gymnasium's close check, quietly: a second close() neither raises nor warns."""
+    env = make(task_id, smoke_mode(task_id))
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        env.close()
+        env.close()
+
+
 def test_render_none_returns_none(new_env):
     env = new_env(ALL_IDS[0])
     env.reset(seed=0)
@@ -364,10 +378,10 @@ def test_diverged_physics_truncates_with_flag(new_env):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("task_id,mode", ID_MODES, ids=lambda p: str(p).replace("UnifiedManip/", ""))
-def test_random_steps_stay_stable(task_id, mode, new_env):
-    """``TaskSpec.stability_steps`` random steps (10,000 unless the task sets fewer)."""
-    env = new_env(task_id, mode, max_episode_steps=200)
+def test_random_steps_stay_stable(pair):
+    """``TaskSpec.stability_steps`` random steps (10,000 unless the task sets fewer), over
+    episodes of the task's own length."""
+    task_id, mode, env, _ = pair
     env.reset(seed=0)
     rng = np.random.default_rng(0)
     steps = unified_manip.TASKS[task_id].stability_steps

@@ -4,13 +4,12 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 import pytest
+from conftest import cli_in_process
 
 import unified_manip  # noqa: F401  (registers the IDs)
 from unified_manip.training.images import ImageExtractor, buffer_bytes, check_buffer_fits
@@ -22,10 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 REACH = "UnifiedManip/Arm4Reach-v0"
 
 
-def cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600, cwd=ROOT
-    )
+cli = cli_in_process
 
 
 def test_sac_her_trains_on_rgb_and_joint_pos_then_evaluates(tmp_path):

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import yaml
+from conftest import cli_in_process
 from test_bench import TINY, write_grid
 
 from unified_manip.cli.main import main
@@ -22,10 +22,7 @@ ROOT = Path(__file__).resolve().parents[2]
 REACH = "UnifiedManip/Arm4Reach-v0"
 
 
-def cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=600, cwd=ROOT
-    )
+cli = cli_in_process
 
 
 @pytest.mark.parametrize(

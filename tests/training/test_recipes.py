@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 import torch
 import yaml
-from conftest import COMMITTED_GRIDS
+from conftest import COMMITTED_GRIDS, cli_in_process
 
 import unified_manip
 from unified_manip.experiments.grid import load_grid
@@ -22,10 +22,7 @@ ROOT = Path(__file__).resolve().parents[2]
 GPU = torch.cuda.is_available()
 
 
-def cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=900, cwd=ROOT
-    )
+cli = cli_in_process
 
 
 # ---------------------------------------------------------------------- device

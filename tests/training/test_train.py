@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import cli_in_process
 
 import unified_manip
 from unified_manip.training import checkpoints
@@ -48,10 +49,9 @@ def mode_for(task_id: str) -> str:
     return "ee_delta" if "ee_delta" in modes else "native"
 
 
-def cli(*args: str, check: bool = True, timeout: float = 900) -> subprocess.CompletedProcess:
-    proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=timeout, cwd=ROOT
-    )
+def cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    """The CLI in this process (:func:`conftest.cli_in_process`); exit 0 asserted unless ``check`` is off."""
+    proc = cli_in_process(*args)
     if check and proc.returncode != 0:
         raise AssertionError(f"exit {proc.returncode}\n{proc.stdout}\n{proc.stderr}")
     return proc
