@@ -104,13 +104,18 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
     ax.set_title(f"{task}: evaluation success rate\n(mean over seeds, shaded: {band})", fontsize=9)
     ax.set_xlabel("environment steps")
     ax.set_ylabel("success rate")
+    return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_success.png")
+
+
+def save_success_figure(fig, ax, path: Path) -> Path:
+    """Finish a figure of success rates in [0, 1] (grid, legend, tight layout), write it to
+    ``path`` and close it."""
     ax.set_ylim(-0.02, 1.02)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
-    path = out / f"{task.split('/')[-1]}_success.png"
     fig.savefig(path)
-    plt.close(fig)
+    pyplot().close(fig)
     return path
 
 

@@ -184,7 +184,7 @@ def robustness_section(path: Path, out: Path) -> list[str]:
 
 def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> Path:
     """Success under each condition, one line per design: mean over seeds, range shaded."""
-    from unified_manip.experiments.figures import pyplot
+    from unified_manip.experiments.figures import pyplot, save_success_figure
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 3.8), dpi=110)
@@ -197,18 +197,11 @@ def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> 
         high = np.array([max(v) if v else np.nan for v in values])
         ax.fill_between(x, low, high, color=line.get_color(), alpha=0.15, linewidth=0)
     ax.set_xticks(x, heads, fontsize=8)
-    ax.set_ylim(-0.02, 1.02)
     ax.set_ylabel("success rate of the final policy")
     ax.set_title(
         f"{task}: final policies under observation noise and delay\n(mean over seeds, range shaded)", fontsize=9
     )
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    path = out / f"{task.split('/')[-1]}_robustness.png"
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_robustness.png")
 
 
 def _cell(values: list[float]) -> str:
