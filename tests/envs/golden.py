@@ -88,9 +88,11 @@ def is_portable() -> bool:
 def check_portable() -> None:
     """Raise unless numpy's SIMD dispatch and its OpenBLAS kernel are the pinned ones
     (they are fixed when numpy loads, so setting the variables later has no effect)."""
-    from numpy.core._multiarray_umath import __cpu_features__
+    from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
 
-    active = sorted(f for f in _NUMPY_DISPATCH.split() if __cpu_features__.get(f))
+    # Only the features this numpy build has kernels for matter: a newer CPU's extra ones
+    # (AVX512_SPR on Sapphire Rapids, for numpy 1.26) stay "active" and are never used.
+    active = sorted(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
     libs = glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs", "libopenblas*"))
     core = None
     if libs:

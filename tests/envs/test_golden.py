@@ -2,13 +2,14 @@
 50-step rollout bit for bit (see ``tests/envs/golden.py``; regenerate with
 ``python tests/envs/golden.py --write``).
 
-The rollouts are played once, all together, in a child process with generic floating
-point (``golden.PORTABLE_ENV``), so the hashes do not depend on the CPU. The tests share
-an xdist group: one worker starts that child (the README's command runs
-``--dist loadgroup``)."""
+The rollouts are played once, in child processes with generic floating point
+(``golden.PORTABLE_ENV``), so the hashes do not depend on the CPU. The cases are dealt
+into :data:`PARTS` xdist groups, one child each, so that the README's command
+(``--dist loadgroup``) plays them on both workers."""
 
 from __future__ import annotations
 
+import functools
 import hashlib
 
 import numpy as np
@@ -17,13 +18,20 @@ from conftest import ID_MODE_REWARDS
 from golden import check_portable, feed, hashes_in_child, key, load
 
 STORED = load()
-# The rollouts take minutes: slow, and one xdist group.
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("golden")]
+pytestmark = pytest.mark.slow  # the rollouts take minutes
+
+#: Children that play the rollouts; case i goes to part i % PARTS (every part gets every family).
+PARTS = 2
 
 
-@pytest.fixture(scope="session")
-def played() -> dict[str, dict[str, str]]:
-    return hashes_in_child()
+@functools.cache
+def played(part: int) -> dict[str, dict[str, str]] | RuntimeError:
+    """The hashes of part ``part``'s cases, or the child's error (kept, so that its cases
+    fail at once instead of each starting another child)."""
+    try:
+        return hashes_in_child([key(*c) for c in ID_MODE_REWARDS[part::PARTS]])
+    except RuntimeError as err:
+        return err
 
 
 def test_every_registered_case_has_stored_hashes():
@@ -32,8 +40,23 @@ def test_every_registered_case_has_stored_hashes():
     assert sorted(set(STORED) - current) == [], "IDs or modes were removed: bump versions instead"
 
 
-def test_golden_rollout(id_mode_reward, played):
-    assert played[key(*id_mode_reward)] == STORED[key(*id_mode_reward)]
+@pytest.mark.parametrize(
+    "part, case",
+    [
+        pytest.param(
+            i % PARTS,
+            c,
+            id="-".join(c).replace("UnifiedManip/", ""),
+            marks=pytest.mark.xdist_group(f"golden-{i % PARTS}"),
+        )
+        for i, c in enumerate(ID_MODE_REWARDS)
+    ],
+)
+def test_golden_rollout(part, case):
+    hashes = played(part)
+    if isinstance(hashes, RuntimeError):
+        raise hashes
+    assert hashes[key(*case)] == STORED[key(*case)]
 
 
 def test_generic_floating_point_is_checked():
