@@ -146,6 +146,19 @@ def _collect_cycles():
         gc.collect()
 
 
+#: ``UM_TEST_RSS=FILE``: after each test, append "test VmRSS VmHWM" (MB) to FILE.<worker>,
+#: to find which tests hold memory (the README's test-memory figures come from it).
+_RSS_LOG = os.environ.get("UM_TEST_RSS")
+
+
+def pytest_runtest_logfinish(nodeid, location):
+    if _RSS_LOG:
+        status = Path("/proc/self/status").read_text()
+        mb = [int(status.split(f"{k}:")[1].split()[0]) // 1024 for k in ("VmRSS", "VmHWM")]
+        with open(f"{_RSS_LOG}.{os.environ.get('PYTEST_XDIST_WORKER', 'main')}", "a") as log:
+            log.write(f"{nodeid} {mb[0]} {mb[1]}\n")
+
+
 #: The family whose parametrised cases stay in the fast subset (``pytest -m "not slow"``).
 FAST_FAMILY = "arm4"
 
