@@ -37,3 +37,27 @@ def test_import_and_make_are_quiet():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == "" and proc.stderr == ""
+
+
+def test_the_readme_test_command_keeps_xdist_groups_on_one_worker(tmp_path):
+    """The suite relies on ``--dist loadgroup`` (shared per-case envs, the golden children);
+    with pytest 9.2 and pytest-xdist 3.8 the groups were silently spread over both
+    workers (pytest-xdist #1386). Two groups of ten tests: each must run on one worker."""
+    import subprocess
+    import sys
+
+    (tmp_path / "test_groups.py").write_text(
+        "import pytest\n\n"
+        "CASES = [pytest.param(i, marks=pytest.mark.xdist_group(f'g{i % 2}')) for i in range(20)]\n\n"
+        "@pytest.mark.parametrize('i', CASES)\n"
+        "def test_member(i):\n"
+        "    pass\n"
+    )
+    (tmp_path / "pytest.ini").write_text("[pytest]\n")  # this directory is the rootdir, not the project's
+    cmd = [sys.executable, "-m", "pytest", "-n", "2", "--dist", "loadgroup", "-v", "-p", "no:cacheprovider"]
+    proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout[-2000:]
+    ran = re.findall(r"\[(gw\d)\].*test_member\[(\d+)\]", proc.stdout)
+    assert len(ran) == 20, proc.stdout[-2000:]
+    workers = {g: {w for w, i in ran if int(i) % 2 == g} for g in (0, 1)}
+    assert all(len(w) == 1 for w in workers.values()), f"groups spread over workers: {workers}"
