@@ -32,7 +32,7 @@ robosuite's controllers), numpy's SIMD loops, glibc's libm variants (MuJoCo's
 ``sin``/``exp``) and numba's target (robosuite). Measured on one AMD EPYC (AVX2) machine:
 changing only the OpenBLAS kernel changed 342 of the 354 cases, only the libm variant 195.
 So the rollouts always run in a child process with every one of those pinned to its
-generic x86-64 code (:data:`PORTABLE_ENV`); the CLI re-executes itself that way and the
+generic x86-64 code (``tests/portable.py``'s ``PORTABLE_ENV``); the CLI re-executes itself that way and the
 test starts such a child. The hashes are then the same on any x86-64 CPU with the pinned
 MuJoCo 3.9.0, numpy 1.26 and the same glibc; another architecture or library version may
 legitimately differ.
@@ -40,13 +40,10 @@ legitimately differ.
 
 from __future__ import annotations
 
-import ctypes
 import gc
-import glob
 import hashlib
 import json
 import os
-import subprocess
 import sys
 import zlib
 from pathlib import Path
@@ -57,60 +54,21 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import gymnasium as gym  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tests/, when run as a script
+import portable  # noqa: E402
+from portable import PORTABLE_ENV, check_portable, is_portable  # noqa: E402
+
 PATH = Path(__file__).with_name("golden_hashes.json")
 STEPS = 50
 RESET_SEED = 0
 FIELDS = ("obs", "rewards", "infos", "ends")
-
-#: numpy's run-time dispatched SIMD features (all of numpy 1.26's x86 ones): disabled,
-#: numpy runs its baseline (SSE3) loops. Names the CPU lacks are ignored.
-_NUMPY_DISPATCH = (
-    "SSSE3 SSE41 POPCNT SSE42 AVX F16C FMA3 AVX2 AVX512F AVX512CD AVX512_KNL AVX512_KNM "
-    "AVX512_SKX AVX512_CLX AVX512_CNL AVX512_ICL AVX512_SPR"
-)
-#: The environment of the process that plays golden rollouts. Each variable must be set
-#: before the process starts (glibc) or before the library loads (the others).
-PORTABLE_ENV = {
-    "OPENBLAS_CORETYPE": "Prescott",  # OpenBLAS's generic SSE3 kernels (numpy's and scipy's copies)
-    "OPENBLAS_NUM_THREADS": "1",
-    "NPY_DISABLE_CPU_FEATURES": _NUMPY_DISPATCH,
-    "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4,-AVX512F",  # libm's SSE2 variants
-    "NUMBA_CPU_NAME": "generic",  # robosuite's numba kernels
-    "MUJOCO_GL": "egl",
-}
-
-
-def is_portable() -> bool:
-    """True if this process runs with :data:`PORTABLE_ENV` in effect."""
-    return all(os.environ.get(k) == v for k, v in PORTABLE_ENV.items())
-
-
-def check_portable() -> None:
-    """Raise unless numpy's SIMD dispatch and its OpenBLAS kernel are the pinned ones
-    (they are fixed when numpy loads, so setting the variables later has no effect)."""
-    from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-
-    # Only the features this numpy build has kernels for matter: a newer CPU's extra ones
-    # (AVX512_SPR on Sapphire Rapids, for numpy 1.26) stay "active" and are never used.
-    active = sorted(f for f in __cpu_dispatch__ if __cpu_features__.get(f))
-    libs = glob.glob(os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs", "libopenblas*"))
-    core = None
-    if libs:
-        corename = ctypes.CDLL(libs[0]).openblas_get_corename64_
-        corename.restype = ctypes.c_char_p
-        core = corename().decode()
-    if active or core != PORTABLE_ENV["OPENBLAS_CORETYPE"]:
-        raise RuntimeError(
-            f"golden rollouts need generic floating point: numpy dispatches {active}, OpenBLAS "
-            f"kernel {core!r}; start the process with tests/envs/golden.py's PORTABLE_ENV"
-        )
 
 
 def hashes_in_child(keys: list[str] | None = None, timeout: float = 1800) -> dict[str, dict[str, str]]:
     """The hashes of ``keys`` (all cases if ``None``), played in a child process with
     :data:`PORTABLE_ENV`."""
     cmd = [sys.executable, __file__, "--hashes", *(keys or [])]
-    out = subprocess.run(cmd, env={**os.environ, **PORTABLE_ENV}, capture_output=True, text=True, timeout=timeout)
+    out = portable.run(cmd, timeout)
     if out.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd[1:3])} failed (exit {out.returncode}):\n{out.stderr[-4000:]}")
     return json.loads(out.stdout)
