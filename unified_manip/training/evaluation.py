@@ -31,6 +31,79 @@ class EvalResult:
         return asdict(self)
 
 
+@dataclass
+class Policy:
+    """A trained run's policy and an env of the run's own settings to play it in.
+
+    Attributes:
+        env: The env (``gym.make`` of the run's ID and keyword arguments, with the
+            overrides asked for); :meth:`close` closes it.
+        config: The run's ``config.yaml``.
+        model_path: The model played (best, final or newest checkpoint, or the one named).
+    """
+
+    env: Any
+    config: dict[str, Any]
+    model_path: Path
+    _model: Any
+    _normalizer: Any
+    deterministic: bool = True
+
+    def act(self, obs: dict[str, np.ndarray]) -> np.ndarray:
+        """The policy's action for one observation of :attr:`env`."""
+        if self._normalizer is not None:
+            obs = self._normalizer.normalize_obs(obs)
+        action, _ = self._model.predict(obs, deterministic=self.deterministic)
+        return action
+
+    def close(self) -> None:
+        self.env.close()
+
+
+def open_policy(
+    target: Path,
+    env_overrides: dict[str, Any] | None = None,
+    deterministic: bool = True,
+    device: str = "auto",
+    action_mode: str | None = None,
+) -> Policy:
+    """Load the model of a run directory (its best model if any, else its final one, else
+    its newest checkpoint) or a model zip inside one, with an env of the run's settings
+    updated by ``env_overrides``. A model cannot be played in an action mode it was not
+    trained in (``action_mode`` names the one asked for, to say so)."""
+    import gymnasium as gym
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from unified_manip.training.run_envs import normalized
+
+    try:
+        device = resolve_device(device)
+    except DeviceError as err:
+        raise TrainError(str(err)) from None
+    try:
+        run_dir = rundir.containing(Path(target))
+        config = rundir.read_config(run_dir)
+        run, algo_kwargs = rundir.run_settings(run_dir, config)
+    except RunDirectoryError as err:
+        raise TrainError(str(err)) from None
+    env_kwargs = dict(config["env_kwargs"])
+    if action_mode is not None and action_mode != env_kwargs["action_mode"]:
+        raise TrainError(
+            f"the model was trained with action_mode {env_kwargs['action_mode']!r}; it cannot be evaluated "
+            f"with action_mode {action_mode!r} (the actions mean different things)"
+        )
+    try:
+        model_path = rundir.model_to_evaluate(Path(target), run_dir)
+    except RunDirectoryError as err:
+        raise TrainError(str(err)) from None
+    env = gym.make(config["env"], **{**env_kwargs, **(env_overrides or {})})
+    # HER models need an env to load; give them one over the same instance.
+    venv = DummyVecEnv([lambda: env])
+    model = get_algo(config["algo"]).load(model_path, algo_kwargs.get("policy"), env=venv, device=device)
+    normalizer = normalized(venv, run, _stats_for(model_path, run_dir), training=False) if run.normalize else None
+    return Policy(env, config, model_path, model, normalizer, deterministic)
+
+
 def evaluate(
     target: Path,
     episodes: int,
@@ -48,65 +121,35 @@ def evaluate(
     zip inside a run directory. The env defaults to the run's own settings; a model
     cannot be evaluated in an action mode it was not trained in. ``observation_noise`` and
     ``observation_delay`` replace the run's own, to measure a policy's robustness."""
-    import gymnasium as gym
     from scipy.stats import binomtest
 
+    from unified_manip.envs.observations import validate_count, validate_noise
     from unified_manip.envs.rewards import validate_reward_type
 
     if episodes <= 0:
         raise TrainError(f"--episodes must be positive, got {episodes}")
-    try:
-        device = resolve_device(device)
-    except DeviceError as err:
-        raise TrainError(str(err)) from None
     if video is not None and Path(video).suffix.lower() not in (".mp4", ".gif"):
         raise TrainError(f"unsupported video format {Path(video).suffix!r}; expected .mp4 or .gif")
+    overrides: dict[str, Any] = {}
     try:
-        run_dir = rundir.containing(Path(target))
-        config = rundir.read_config(run_dir)
-        run, algo_kwargs = rundir.run_settings(run_dir, config)
-    except RunDirectoryError as err:
-        raise TrainError(str(err)) from None
-    env_kwargs = dict(config["env_kwargs"])
-    if action_mode is not None and action_mode != env_kwargs["action_mode"]:
-        raise TrainError(
-            f"the model was trained with action_mode {env_kwargs['action_mode']!r}; it cannot be evaluated "
-            f"with action_mode {action_mode!r} (the actions mean different things)"
-        )
-    if reward_type is not None:
-        try:
+        if reward_type is not None:
             validate_reward_type(reward_type)
-        except ValueError as err:
-            raise TrainError(str(err)) from None
-        env_kwargs["reward_type"] = reward_type
-    from unified_manip.envs.observations import validate_count, validate_noise
-
+            overrides["reward_type"] = reward_type
+    except ValueError as err:
+        raise TrainError(str(err)) from None
     try:
         if observation_noise is not None:
             validate_noise(observation_noise)
-            env_kwargs["observation_noise"] = observation_noise
+            overrides["observation_noise"] = observation_noise
         if observation_delay is not None:
             validate_count("observation_delay", observation_delay)
-            env_kwargs["observation_delay"] = observation_delay
+            overrides["observation_delay"] = observation_delay
     except ValueError as err:
         raise TrainError(f"--{str(err).replace('_', '-')}") from None
-    try:
-        model_path = rundir.model_to_evaluate(Path(target), run_dir)
-    except RunDirectoryError as err:
-        raise TrainError(str(err)) from None
-    algo = get_algo(config["algo"])
-    render = {"render_mode": "rgb_array", "render_width": 320, "render_height": 320} if video else {}
-    from stable_baselines3.common.vec_env import DummyVecEnv
-
-    from unified_manip.training.run_envs import normalized
-
-    env = gym.make(config["env"], **env_kwargs, **render)
-    # HER models need an env to load; give them one over the same instance.
-    venv = DummyVecEnv([lambda: env])
-    model = algo.load(model_path, algo_kwargs.get("policy"), env=venv, device=device)
-    normalizer = None
-    if run.normalize:
-        normalizer = normalized(venv, run, _stats_for(model_path, run_dir), training=False)
+    if video:
+        overrides.update(render_mode="rgb_array", render_width=320, render_height=320)
+    policy = open_policy(Path(target), overrides, deterministic, device, action_mode)
+    env = policy.env
     returns, successes, frames = [], 0, []
     for ep in range(episodes):
         obs, info = env.reset(seed=seed + ep)
@@ -114,17 +157,16 @@ def evaluate(
         if video and ep < video_episodes:
             frames.append(env.render())
         while not done:
-            action, _ = model.predict(normalizer.normalize_obs(obs) if normalizer else obs, deterministic=deterministic)
-            obs, reward, terminated, truncated, info = env.step(action)
+            obs, reward, terminated, truncated, info = env.step(policy.act(obs))
             total += reward
             done = terminated or truncated
             if video and ep < video_episodes:
                 frames.append(env.render())
         returns.append(total)
         successes += int(info.get("is_success", 0.0) > 0.5)
-    env.close()
+    policy.close()
     if video:
-        write_video(Path(video), frames, fps=get_task(config["env"]).render_fps)
+        write_video(Path(video), frames, fps=get_task(policy.config["env"]).render_fps)
     ci = binomtest(successes, episodes).proportion_ci(confidence_level=0.95, method="wilson")
     return EvalResult(
         episodes,

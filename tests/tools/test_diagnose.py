@@ -1,0 +1,62 @@
+"""What a run's policy did (issue 40, item 3), on a committed run and on a fresh one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from conftest import ROOT, cli_in_process
+
+from unified_manip.tools import diagnose
+
+COMMITTED = ROOT / "results/action_spaces_families/runs/Arm4PickAndPlace-v0__joint_position__sparse__tqc_her__s0"
+
+
+def test_a_committed_run_gives_its_demonstrations_and_training_episodes():
+    """Committed results carry no model: the demonstrations and the agent's own training
+    episodes are measured, and the note says why the policy is not played."""
+    d = diagnose.diagnose(COMMITTED)
+    assert (d.action_mode, d.demonstrations, d.demonstration_success) == ("joint_position", 96, 1.0)
+    # 60k steps of 8 envs, 100-step episodes, as the monitor logged them: none succeeded.
+    assert d.training_episodes == 600 and d.training_success == 0.0 and d.training_success_last_tenth == 0.0
+    assert d.played is None and "has no model yet" in d.note
+    assert "| 96 (1.00) | 600 episodes: 0.00 (0.00) | – |" in diagnose.table([d])
+
+
+@pytest.fixture(scope="module")
+def pick_and_place_run(tmp_path_factory) -> Path:
+    run_dir = tmp_path_factory.mktemp("diagnose") / "run"
+    sets = ["learning_starts=100", "batch_size=64", "buffer_size=10000", "eval_freq=1000", "n_eval_episodes=1"]
+    args = ["train", "--env", "UnifiedManip/Arm4PickAndPlace-v0", "--action-mode", "joint_delta", "--algo", "sac_her"]
+    args += ["--steps", "200", "--seed", "0", "--run-dir", str(run_dir), "--no-progress"]
+    proc = cli_in_process(*args, *[a for s in sets for a in ("--set", s)])
+    assert proc.returncode == 0, proc.stderr
+    return run_dir
+
+
+@pytest.mark.slow
+def test_a_trained_policy_is_played_and_measured(pick_and_place_run, tmp_path):
+    out = tmp_path / "d.json"
+    assert diagnose.main([str(pick_and_place_run), "--episodes", "2", "--json", str(out)]) == 0
+    d = diagnose.diagnose(pick_and_place_run, episodes=2)
+    p = d.played
+    assert d.training_episodes == 2 and d.demonstrations == 0  # 200 steps of 100-step episodes
+    assert p.episodes == 2 and 0.0 <= p.success <= 1.0 and 0.0 <= p.saturated <= 1.0
+    # The closest approach is at most the distance at reset, measured here on the same seeds.
+    env = gym.make("UnifiedManip/Arm4PickAndPlace-v0", action_mode="joint_delta")
+    at_reset = []
+    for ep in range(2):
+        env.reset(seed=diagnose.FIRST_SEED + ep)
+        groups = env.unwrapped.backend.observation_groups()
+        at_reset.append(100 * np.linalg.norm(groups["object_rel"].read(env.unwrapped.backend)))
+    env.close()
+    assert 0.0 < p.closest_approach_cm <= np.median(at_reset) + 1e-6
+    assert '"action_mode": "joint_delta"' in out.read_text()
+
+
+def test_a_directory_that_is_not_a_run_is_one_line(tmp_path, capsys):
+    assert diagnose.main([str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: ") and "\n" not in err and "config.yaml" in err

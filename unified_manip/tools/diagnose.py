@@ -1,0 +1,205 @@
+"""What a run's policy did: ``python -m unified_manip.tools.diagnose RUN_DIR ...``.
+
+Issue 40 asks, for every action mode that fails on a task, what the mode did, measured
+rather than guessed. For each run directory this reports:
+
+* **demonstrations:** the episodes the run started with and their success
+  (``demonstrations.json``);
+* **training episodes:** the success of the agent's own episodes, over all of them and
+  over the last tenth (the ``monitor/`` CSVs);
+* **the policy,** played deterministically for ``--episodes`` seeded episodes: its
+  success; its actions (mean ``|a|``, the share of components at the bounds, the mean
+  change between steps); the closest approach of the grip site to the object (the
+  ``object_rel`` group, cm, median over episodes; tasks without an object have none);
+  and how far the achieved goal (the object, on object tasks) got from where it started
+  (cm, median over episodes).
+
+Committed results carry no models, so for them only the first two are measured; run it
+where the runs trained.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import sys
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+#: Seeds of the played episodes: 123, 124, ... (``unified-manip eval``'s).
+FIRST_SEED = 123
+#: An action component within this of a bound counts as saturated.
+SATURATED = 0.99
+
+
+@dataclass(frozen=True)
+class Played:
+    """The policy, played: see the module docstring."""
+
+    episodes: int
+    success: float
+    mean_abs_action: float
+    saturated: float
+    action_change: float
+    closest_approach_cm: float | None
+    goal_moved_cm: float
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    run: str
+    action_mode: str
+    demonstrations: int
+    demonstration_success: float | None
+    training_episodes: int
+    training_success: float | None
+    training_success_last_tenth: float | None
+    played: Played | None
+    note: str = ""
+
+
+def training_success(run_dir: Path) -> tuple[int, float | None, float | None]:
+    """``(episodes, success over all, success over the last tenth)`` of the training
+    episodes the run's monitor CSVs list, in the order they ended. A resumed run has one
+    ``monitor/seg<k>`` per process; the episodes a process played after its last
+    checkpoint count too (the agent played them, though training went on from the
+    checkpoint)."""
+    rows = []
+    segments = sorted(Path(run_dir, "monitor").glob("seg*"), key=lambda p: int(p.name[3:] or 0))
+    for k, segment in enumerate(segments):
+        for path in sorted(segment.glob("*.monitor.csv")):
+            with path.open() as f:
+                f.readline()  # the JSON header
+                rows += [(k, float(r["t"]), float(r["is_success"])) for r in csv.DictReader(f) if r.get("is_success")]
+    if not rows:
+        return 0, None, None
+    success = np.array([s for *_, s in sorted(rows)])
+    tail = success[-max(1, len(success) // 10) :]
+    return len(success), float(success.mean()), float(tail.mean())
+
+
+def play(run_dir: Path, episodes: int) -> Played:
+    """Play the run's model (best, else final, else newest checkpoint) deterministically."""
+    from unified_manip.training.evaluation import open_policy
+
+    policy = open_policy(run_dir)
+    env = policy.env
+    backend = env.unwrapped.backend
+    group = backend.observation_groups().get("object_rel")
+    distance = (lambda: float(np.linalg.norm(group.read(backend)))) if group else (lambda: np.nan)
+    actions, changes, closest, moved, successes = [], [], [], [], 0
+    for ep in range(episodes):
+        obs, info = env.reset(seed=FIRST_SEED + ep)
+        start, done, last = obs["achieved_goal"].copy(), False, None
+        near, far = distance(), 0.0
+        while not done:
+            action = np.asarray(policy.act(obs), dtype=np.float64)
+            obs, _, terminated, truncated, info = env.step(action)
+            done = terminated or truncated
+            actions.append(action)
+            if last is not None:
+                changes.append(float(np.abs(action - last).mean()))
+            last = action
+            near = min(near, distance())
+            far = max(far, float(np.linalg.norm(obs["achieved_goal"] - start)))
+        closest.append(near)
+        moved.append(far)
+        successes += int(info.get("is_success", 0.0) > 0.5)
+    policy.close()
+    a = np.abs(np.stack(actions))
+    return Played(
+        episodes,
+        successes / episodes,
+        float(a.mean()),
+        float((a >= SATURATED).mean()),
+        float(np.mean(changes)) if changes else 0.0,
+        100 * float(np.median(closest)) if group else None,
+        100 * float(np.median(moved)),
+    )
+
+
+def diagnose(run_dir: Path, episodes: int = 20) -> Diagnosis:
+    """Everything the module docstring lists that ``run_dir`` allows."""
+    from unified_manip.training import rundir
+    from unified_manip.training.request import TrainError
+
+    config = rundir.read_config(run_dir)
+    demos_path = run_dir / "demonstrations.json"
+    demos = json.loads(demos_path.read_text()) if demos_path.is_file() else {}
+    n, success, last = training_success(run_dir)
+    played, note = None, ""
+    try:
+        played = play(run_dir, episodes)
+    except TrainError as err:
+        note = str(err)
+    return Diagnosis(
+        run_dir.name,
+        config["env_kwargs"]["action_mode"],
+        int(demos.get("episodes", 0)),
+        demos.get("success"),
+        n,
+        success,
+        last,
+        played,
+        note,
+    )
+
+
+def _pct(value: float | None) -> str:
+    return "–" if value is None else f"{value:.2f}"
+
+
+def _num(value: float | None) -> str:
+    return "–" if value is None else f"{value:.1f}"
+
+
+def table(rows: list[Diagnosis]) -> str:
+    """Markdown, one row per run."""
+    lines = [
+        "| run | mode | demonstrations (success) | training episodes: success (last tenth) | played: success "
+        "| mean abs action | at bounds | change per step | closest approach, cm | goal moved, cm |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for d in rows:
+        p = d.played
+        played = (
+            f"{p.success:.2f} | {p.mean_abs_action:.2f} | {p.saturated:.2f} | {p.action_change:.2f} "
+            f"| {_num(p.closest_approach_cm)} | {p.goal_moved_cm:.1f}"
+            if p
+            else "– | – | – | – | – | –"
+        )
+        lines.append(
+            f"| {d.run} | `{d.action_mode}` | {d.demonstrations} ({_pct(d.demonstration_success)}) "
+            f"| {d.training_episodes} episodes: {_pct(d.training_success)} ({_pct(d.training_success_last_tenth)}) "
+            f"| {played} |"
+        )
+    notes = [f"- {d.run}: {d.note}" for d in rows if d.note]
+    return "\n".join(lines + ([""] + notes if notes else []))
+
+
+def main(argv: list[str] | None = None) -> int:
+    from unified_manip.training.rundir import RunDirectoryError
+
+    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.diagnose", description=__doc__.split("\n")[0])
+    parser.add_argument("runs", nargs="+", type=Path, help="run directories")
+    parser.add_argument("--episodes", type=int, default=20, help="episodes to play each policy (default 20)")
+    parser.add_argument("--json", type=Path, help="also write the measurements here")
+    args = parser.parse_args(argv)
+    if args.episodes <= 0:
+        parser.error(f"--episodes must be positive, got {args.episodes}")
+    try:
+        rows = [diagnose(run, args.episodes) for run in args.runs]
+    except RunDirectoryError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    print(table(rows))
+    if args.json:
+        args.json.write_text(json.dumps([asdict(d) for d in rows], indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
