@@ -20,6 +20,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import gymnasium as gym  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+import yaml  # noqa: E402
 
 import unified_manip  # noqa: E402
 
@@ -49,6 +50,29 @@ def cli_in_process(*args: str) -> subprocess.CompletedProcess:
         except SystemExit as exit_:  # argparse and the one-line errors exit with their code
             code = exit_.code if isinstance(exit_.code, int) else 1
     return subprocess.CompletedProcess(list(args), code or 0, out.getvalue(), err.getvalue())
+
+
+#: A bench grid that trains in seconds: 2 modes x 2 seeds of 200 steps of Arm4Reach.
+TINY_GRID = {
+    "name": "tiny",
+    "tasks": ["UnifiedManip/Arm4Reach-v0"],
+    "action_modes": ["ee_delta", "joint_delta"],
+    "reward_types": ["sparse"],
+    "algos": ["sac_her"],
+    "seeds": [0, 1],
+    "steps": 200,
+    "eval_freq": 100,
+    "n_eval_episodes": 2,
+    "overrides": {
+        "sac_her": ["learning_starts=50", "batch_size=32", "checkpoint_freq=100", "policy_kwargs.net_arch=[16,16]"]
+    },
+}
+
+
+def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
 
 
 def smoke_mode(task_id: str) -> str:

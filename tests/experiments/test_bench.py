@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import TINY_GRID, write_grid
 
 from unified_manip.envs.rewards import RewardSpec, Term
 from unified_manip.experiments.bench import run_grid
@@ -27,32 +28,11 @@ from unified_manip.training.hyperparams import resolve_run
 
 ROOT = Path(__file__).resolve().parents[2]
 
-TINY = {
-    "name": "tiny",
-    "tasks": ["UnifiedManip/Arm4Reach-v0"],
-    "action_modes": ["ee_delta", "joint_delta"],
-    "reward_types": ["sparse"],
-    "algos": ["sac_her"],
-    "seeds": [0, 1],
-    "steps": 200,
-    "eval_freq": 100,
-    "n_eval_episodes": 2,
-    "overrides": {
-        "sac_her": ["learning_starts=50", "batch_size=32", "checkpoint_freq=100", "policy_kwargs.net_arch=[16,16]"]
-    },
-}
-
 
 def cli(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "unified_manip.cli", *args], capture_output=True, text=True, timeout=300, cwd=ROOT
     )
-
-
-def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
-    path = tmp_path / name
-    path.write_text(yaml.safe_dump(doc, sort_keys=False))
-    return path
 
 
 def _check_complete(out: Path, expected_runs: int) -> list[dict]:
@@ -70,7 +50,7 @@ def _check_complete(out: Path, expected_runs: int) -> list[dict]:
 # ---------------------------------------------------------------------- executors
 @pytest.mark.slow
 def test_local_executor_runs_a_2x2_grid(tmp_path):
-    grid = load_grid(write_grid(tmp_path, TINY))
+    grid = load_grid(write_grid(tmp_path, TINY_GRID))
     assert len(grid.runs) == 4
     summary = run_grid(grid, tmp_path / "out", executor="local", workers=2, progress=False)
     assert summary["finished"] == 4 and summary["failed"] == []
@@ -93,12 +73,12 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
             other / "runs" / row["run"],
             ignore=shutil.ignore_patterns("*.zip", "*.pkl", "checkpoints", "best"),
         )
-    done = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--no-progress")
+    done = cli("bench", str(write_grid(tmp_path, TINY_GRID)), "--out", str(other), "--collect", "--no-progress")
     assert done.returncode == 0 and "2/4 runs finished, 0 failed" in done.stdout, done.stderr
     assert {r["run"]: r for r in read_results(other / "results.csv")} == {r["run"]: r for r in rows[:2]}
     assert sorted(p.name for p in (other / "runs").iterdir()) == sorted(r["run"] for r in rows[:2])
     assert not (other / "command.txt").exists()
-    both = cli("bench", str(write_grid(tmp_path, TINY)), "--out", str(other), "--collect", "--only", "seed=0")
+    both = cli("bench", str(write_grid(tmp_path, TINY_GRID)), "--out", str(other), "--collect", "--only", "seed=0")
     assert both.returncode == 2 and both.stderr.strip() == (
         "unified-manip bench: error: --only chooses runs to train and --collect trains none; give one or the other"
     )
@@ -115,7 +95,7 @@ def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
             "-m",
             "unified_manip.cli",
             "bench",
-            str(write_grid(tmp_path, TINY)),
+            str(write_grid(tmp_path, TINY_GRID)),
             "--out",
             str(out),
             "--executor",
@@ -136,7 +116,7 @@ def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
 
 @pytest.mark.slow
 def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path):
-    doc = dict(TINY, seeds=[0])
+    doc = dict(TINY_GRID, seeds=[0])
     grid = load_grid(write_grid(tmp_path, doc))
     out = tmp_path / "out"
     # Occupy one run's directory with a foreign file: train refuses it, every attempt.
@@ -154,7 +134,7 @@ def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path
 @pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT], ids=["kill", "ctrl-c"])
 def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_path):
-    grid_path = write_grid(tmp_path, dict(TINY, steps=200))
+    grid_path = write_grid(tmp_path, dict(TINY_GRID, steps=200))
     out = tmp_path / "out"
     cmd = [
         sys.executable,
@@ -244,11 +224,11 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
         ),
         ({"overrides": {"sac_her": ["warp=9"]}}, "unknown hyperparameter 'warp' in --set 'warp=9'"),
         (
-            {"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_steps=10"]}},
+            {"overrides": {"sac_her": [*TINY_GRID["overrides"]["sac_her"], "bc_steps=10"]}},
             "bc_steps=10 clones the demonstrations; set demonstrations to 1 or more episodes",
         ),
         (
-            {"overrides": {"sac_her": [*TINY["overrides"]["sac_her"], "bc_weight=2"]}},
+            {"overrides": {"sac_her": [*TINY_GRID["overrides"]["sac_her"], "bc_weight=2"]}},
             "bc_weight=2 imitates the demonstrations; set demonstrations to 1 or more episodes",
         ),
         ({"env_kwargs": ["band"]}, "env_kwargs must be a mapping of gym.make keyword arguments, got ['band']"),
@@ -267,7 +247,7 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
     ],
 )
 def test_malformed_grids_give_exact_errors(tmp_path, change, message):
-    doc = dict(TINY)
+    doc = dict(TINY_GRID)
     for k, v in change.items():
         if v is None:
             doc.pop(k)
@@ -281,9 +261,9 @@ def test_malformed_grids_give_exact_errors(tmp_path, change, message):
 
 def test_cell_overrides_set_one_cells_runs_after_the_algorithms_overrides(tmp_path):
     """A study where one cell differs (a mode with no dataset runs without demonstrations)."""
-    base = TINY["overrides"]["sac_her"]
+    base = TINY_GRID["overrides"]["sac_her"]
     doc = {
-        **TINY,
+        **TINY_GRID,
         "overrides": {"sac_her": [*base, "demonstrations=4"]},
         "cell_overrides": [{"action_mode": "joint_delta", "set": ["demonstrations=0"]}],
     }
@@ -307,15 +287,15 @@ def test_cell_overrides_set_one_cells_runs_after_the_algorithms_overrides(tmp_pa
 
 def test_a_grid_without_n_envs_leaves_it_to_the_hyperparameter_file(tmp_path):
     """None reaches train, which takes the file's n_envs (else 1); a grid's own wins."""
-    assert {r.n_envs for r in load_grid(write_grid(tmp_path, TINY)).runs} == {None}
-    three = {**TINY, "n_envs": {"sac_her": 3}}
+    assert {r.n_envs for r in load_grid(write_grid(tmp_path, TINY_GRID)).runs} == {None}
+    three = {**TINY_GRID, "n_envs": {"sac_her": 3}}
     with pytest.raises(
         GridError,
         match=r"learning_starts=50 starts training at step 51, before the first episodes end "
         r"at step 150 \(3 envs x 50 steps\)",
     ):
         load_grid(write_grid(tmp_path, three))  # checked with the grid's n_envs, before any run starts
-    three["overrides"] = {"sac_her": [*TINY["overrides"]["sac_her"], "learning_starts=150"]}
+    three["overrides"] = {"sac_her": [*TINY_GRID["overrides"]["sac_her"], "learning_starts=150"]}
     assert {r.n_envs for r in load_grid(write_grid(tmp_path, three)).runs} == {3}
 
 
@@ -324,7 +304,7 @@ def test_a_grids_env_kwargs_reach_every_run_its_config_and_its_report(tmp_path):
     """The zoo's env_kwargs: here a controller option, recorded in config.yaml (so resume
     compares it and eval rebuilds the same env) and stated in the report."""
     doc = {
-        **TINY,
+        **TINY_GRID,
         "action_modes": ["joint_position"],
         "seeds": [0],
         "env_kwargs": {"controller_options": {"band": 0.4}},

@@ -10,8 +10,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import cli_in_process
-from test_bench import TINY, write_grid
+from conftest import TINY_GRID, cli_in_process, write_grid
 
 from unified_manip.cli.main import main
 from unified_manip.experiments.grid import GridError, load_grid, selected
@@ -52,7 +51,7 @@ def test_run_names_carry_a_non_default_design(env_kwargs, name):
 def test_a_grid_crosses_observation_designs(tmp_path):
     distractors = {"observation": "default", "observation_distractors": 32}
     designs = ["default", "relative", ["ee_pos"], distractors]
-    doc = {**TINY, "action_modes": ["ee_delta"], "seeds": [0], "observations": designs}
+    doc = {**TINY_GRID, "action_modes": ["ee_delta"], "seeds": [0], "observations": designs}
     grid = load_grid(write_grid(tmp_path, doc))
     assert [(r.name, r.env_kwargs) for r in grid.runs] == [
         ("Arm4Reach-v0__ee_delta__sparse__sac_her__s0", {}),
@@ -103,7 +102,7 @@ def test_a_grid_crosses_observation_designs(tmp_path):
     ],
 )
 def test_a_grid_with_a_bad_design_fails_in_one_line(tmp_path, observations, message):
-    path = write_grid(tmp_path, {**TINY, "observations": observations})
+    path = write_grid(tmp_path, {**TINY_GRID, "observations": observations})
     with pytest.raises(GridError) as err:
         load_grid(path)
     assert str(err.value) == f"{path}: {message}"
