@@ -173,3 +173,21 @@ def test_the_vector_env_serves_the_single_envs_frames(task_id):
     assert out[0]["rgb"].shape == (3, 20, 20, 3)
     native.close()
     reference.close()
+
+
+@pytest.mark.parametrize("camera,drawn,hidden", [("agentview", 1, 0), ("agentview_collision", 0, 1)])
+def test_robosuite_cameras_draw_visual_meshes_or_collision_geoms(camera, drawn, hidden):
+    """``agentview`` draws robosuite's visual geoms (group 1); ``agentview_collision`` the
+    same view with the collision geoms (group 0) instead, for speed. (Group 2 holds a few
+    markers both draw.)"""
+    import mujoco
+
+    env = gym.make("UnifiedManip/Lift-v0", observation=["default", "rgb"], camera=camera, image_size=48)
+    obs, _ = env.reset(seed=0)
+    assert obs["rgb"].shape == (48, 48, 3) and obs["rgb"].dtype == np.uint8
+    model = env.unwrapped.backend.model
+    scene = env.unwrapped._images._renderer.scene  # the scene of the frame just drawn
+    geoms = [scene.geoms[i] for i in range(scene.ngeom)]
+    groups = {int(model.geom_group[g.objid]) for g in geoms if g.objtype == mujoco.mjtObj.mjOBJ_GEOM}
+    env.close()
+    assert drawn in groups and hidden not in groups, groups

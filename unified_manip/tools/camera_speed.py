@@ -7,6 +7,7 @@ each task and image size it measures, in one run, with random actions and autore
 kind            what
 ==============  ==================================================================
 single          ``gym.make(ID, observation=["default", "rgb"], image_size=S)``
+collision       the same on Lift with ``camera="agentview_collision"`` (collision geoms)
 vector          ``gym.make_vec`` of the same, N envs (native where the family has it)
 robosuite       ``robosuite.make("Lift", use_camera_obs=True, ...)`` at S x S
                 (``agentview``, robosuite's defaults otherwise), beside Lift only
@@ -15,8 +16,8 @@ robosuite       ``robosuite.make("Lift", use_camera_obs=True, ...)`` at S x S
 Each figure is frames per second: env steps per second times the envs (one ``rgb`` frame per
 env step). The kinds run in turn within each round and each figure is the median over
 rounds, so load changes reach every kind alike; compare the ratios of one run, not rates
-across runs. The ratio column is ``single`` over ``robosuite`` for Lift at the same size
-(issue 41's target: at least 5x at 84 px).
+across runs. The ratio column is ``single`` (and ``collision``) over ``robosuite`` for Lift
+at the same size (issue 41's target: at least 5x at 84 px).
 """
 
 from __future__ import annotations
@@ -36,6 +37,8 @@ TASKS: tuple[str, ...] = (
 )
 SIZES: tuple[int, ...] = (64, 84, 128)
 ROBOSUITE_TASK = "UnifiedManip/Lift-v0"
+#: The camera of the ``collision`` kind: robosuite's default view, collision geoms only.
+COLLISION_CAMERA = "agentview_collision"
 #: Unmeasured steps of each kind before the rounds.
 WARMUP_STEPS = 5
 
@@ -47,10 +50,10 @@ def _rate(step: Callable[[], None], steps: int, frames_per_step: int) -> float:
     return steps * frames_per_step / (time.perf_counter() - start)
 
 
-def _single(task_id: str, size: int) -> tuple[Callable[[], None], Callable[[], None]]:
+def _single(task_id: str, size: int, camera: str | None = None) -> tuple[Callable[[], None], Callable[[], None]]:
     import gymnasium as gym
 
-    env = gym.make(task_id, observation=["default", "rgb"], image_size=size)
+    env = gym.make(task_id, observation=["default", "rgb"], image_size=size, camera=camera)
     env.reset(seed=0)
     env.action_space.seed(0)
 
@@ -106,6 +109,7 @@ def measure(tasks: tuple[str, ...], sizes: tuple[int, ...], n: int, steps: int, 
             makers[(task, "single")] = (lambda t=task: _single(t, size), steps, 1)
             makers[(task, f"vector{n}")] = (lambda t=task: _vector(t, size, n), max(steps // n, 1), n)
         if ROBOSUITE_TASK in tasks:
+            makers[(ROBOSUITE_TASK, "collision")] = (lambda: _single(ROBOSUITE_TASK, size, COLLISION_CAMERA), steps, 1)
             makers[("robosuite:Lift", "robosuite")] = (lambda: _robosuite(size), steps, 1)
         built = {key: make() for key, (make, _, _) in makers.items()}
         for step, _ in built.values():  # warm up: first renders, numba's compilation (robosuite)
