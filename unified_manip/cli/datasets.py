@@ -16,7 +16,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int
 from unified_manip.envs.config import ACTION_MODES
-from unified_manip.envs.observations import parse_observation
+from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
 from unified_manip.envs.config import ACTION_MODES
-from unified_manip.envs.observations import parse_observation
+from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS

@@ -8,7 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.envs.observations import DESIGN_KEYWORDS, PRESETS, build_stream, design_label
+from unified_manip.envs.design_names import DESIGN_KEYWORDS, design_label
+from unified_manip.envs.observations import PRESETS, build_stream
 from unified_manip.envs.setup import env_setup
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.observations import design_label
+from unified_manip.envs.design_names import design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.experiments.designs import check_design, parse_designs

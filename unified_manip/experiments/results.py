@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from unified_manip.envs.observations import design_label
+from unified_manip.envs.design_names import design_label
 from unified_manip.training.rundir import CONFIG, read_status
 from unified_manip.training.settings import demonstration_record
 

@@ -57,7 +57,7 @@ def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]
     ``task_id`` with the env keyword arguments ``env_config`` (the run's ``action_mode``,
     ``reward_type`` and extras); return its metadata (``unified_manip``'s). ``path`` may
     hold ``{task}`` and ``{action_mode}`` (:func:`dataset_path`)."""
-    from unified_manip.envs.observations import observation_label
+    from unified_manip.envs.design_names import observation_label
 
     path = dataset_path(path, task_id, env_config)
     _, meta = _dataset(path)

@@ -82,7 +82,7 @@ def policies(task_id: str, action_mode: str, venv) -> list:
     envs = getattr(venv, "envs", None)
     if envs is not None:
         return [policy(task_id, action_mode, env) for env in envs]
-    from unified_manip.envs.observations import DESIGN_KEYWORDS, design_label
+    from unified_manip.envs.design_names import DESIGN_KEYWORDS, design_label
     from unified_manip.envs.registry import get_task
 
     config = venv.get_attr("config")[0]

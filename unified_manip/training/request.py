@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from unified_manip.envs.observations import design_label, observation_label
+from unified_manip.envs.design_names import design_label, observation_label
 from unified_manip.envs.registry import get_task
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DEVICES
