@@ -3,7 +3,7 @@
     MUJOCO_GL=egl python docs/_gen/camera_frames.py
 
 Writes ``docs/images/cameras.png``: for each family's default camera (and the arm's
-wrist camera), the ``rgb`` observation at 84 px with the fast settings (top row) and the
+wrist camera, and robosuite's collision-geometry view), the ``rgb`` observation at 84 px with the fast settings (top row) and the
 same camera with MuJoCo's full look (bottom row), a third of the way through a scripted
 episode, seed 0, each shown at 2x. The PNG is committed; the site build does not render.
 """
@@ -25,6 +25,7 @@ VIEWS = (
     ("UnifiedManip/Arm4PickAndPlace-v0", "wrist"),
     ("UnifiedManip/FetchPickAndPlace-v0", "front"),
     ("UnifiedManip/Lift-v0", "agentview"),
+    ("UnifiedManip/Lift-v0", "agentview_collision"),
     ("UnifiedManip/HandManipulateBlock-v0", "front"),
 )
 SIZE = 84
