@@ -306,6 +306,7 @@ def test_every_committed_config_yaml_reads_its_run_settings():
         100,
         "/tmp/all100/Arm4PickAndPlace-v0-{action_mode}-v0",
         "data/{task}/{action_mode}-v0",  # issue 40's study: one dataset per task and mode
+        "data/bc/n400/{task}/{action_mode}-v0",  # issue 39's cloning study, 400 episodes
     }
     assert {r.demos.bc_steps for r in runs} == {0, 5000}
     assert {r.cloning_loss.bc_weight for r in runs} == {0.0, 1.6, 2.0, 1000}
