@@ -23,6 +23,10 @@ def test_collect_all_writes_every_mode_of_a_task_and_resumes(tmp_path, capsys, m
     assert modes[0] == "ee_delta" and len(modes) == 8  # every mode of the arm's shared controllers
     catalogue = json.loads((root / "catalogue.json").read_text())
     assert {e["state"] for e in catalogue.values()} == {"written"}
+    for name, entry in catalogue.items():  # each dataset's cost, so a resumed set's cost sums
+        files = [f for f in (root / name).rglob("*") if f.is_file()]
+        assert entry["bytes"] == sum(f.stat().st_size for f in files) > 0
+        assert entry["wall_s"] > 0 and entry["cpu_s"] > 0
     monkeypatch.setenv("MINARI_DATASETS_PATH", str(root))
     written = {}
     for mode in modes:

@@ -13,7 +13,9 @@ skipped with its reason.
 
 Resumable: a dataset already there is complete (datasets are published whole) and kept;
 ``catalogue.json`` in the output directory records every dataset written and every mode
-skipped with its conversion success, so a second call redoes neither.
+skipped with its conversion success, so a second call redoes neither. Each entry this call
+produced also holds its cost: ``wall_s`` and ``cpu_s`` (a conversion's include its source,
+where it recorded that) and the dataset's ``bytes``, so the set's cost sums across calls.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import time
 from pathlib import Path
 from typing import Any, Callable
 
@@ -90,7 +93,7 @@ def collect_all(
             elif done.get("state") == "skipped" and done.get("episodes") == episodes:
                 entry = done
             else:
-                entry = _one(root, task_id, mode, episodes)
+                entry = _timed(root, name, lambda: _one(root, task_id, mode, episodes))
             _record(root, manifest, entry.get("name", name), entry, log)
             if mode == "ee_delta" and entry["state"] == "skipped":
                 failed_tasks[task_id] = f"no ee_delta dataset to convert: {entry['reason']}"
@@ -98,6 +101,16 @@ def collect_all(
                     run = _trained(root, task_id, episodes, trained[task_id], scripted=True)
                     _record(root, manifest, run["name"], run, log)
     return manifest
+
+
+def _timed(root: Path, name: str, make: Callable[[], dict[str, Any]]) -> dict[str, Any]:
+    """``make()``'s entry with its wall and CPU seconds and, when written, the dataset's bytes."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    entry = make()
+    entry.update(wall_s=round(time.perf_counter() - wall, 3), cpu_s=round(time.process_time() - cpu, 3))
+    if entry["state"] == "written":
+        entry["bytes"] = sum(f.stat().st_size for f in (root / entry.get("name", name)).rglob("*") if f.is_file())
+    return entry
 
 
 def _one(root: Path, task_id: str, mode: str, episodes: int) -> dict[str, Any]:
