@@ -11,6 +11,7 @@ import pytest
 from unified_manip.cli import main
 from unified_manip.experiments.figures import curve_band
 from unified_manip.experiments.results import read_results
+from unified_manip.experiments.scaling import points
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCHES = [ROOT / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
@@ -62,3 +63,28 @@ def test_one_seed_has_no_band_and_the_same_steps():
     steps, mean, low, high = curve_band([{"curve": [[10, 0.2], [20, 0.4]]}])
     assert steps.tolist() == [10, 20] and mean.tolist() == [0.2, 0.4]
     assert np.isnan(low).all() and np.isnan(high).all()
+
+
+CLONING = [ROOT / "results" / name / "results.csv" for name in ("bc_arm4pnp_pilot", "bc_arm4pnp_n400")]
+
+
+def test_against_demonstrations_draws_final_success_over_dataset_sizes(tmp_path, capsys):
+    out = tmp_path / "sizes.png"
+    assert main(["plot", *map(str, CLONING), "--against", "demonstrations", "--out", str(out)]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert capsys.readouterr().out.strip() == f"wrote {out} (1 panels: Arm4PickAndPlace-v0)"
+
+
+def test_points_group_final_success_by_setting_and_demonstration_episodes():
+    def row(mode, episodes, final, algo="bc"):
+        demos = {"episodes": episodes} if episodes else None
+        return {"action_mode": mode, "reward_type": "sparse", "algo": algo, "demonstrations": demos,
+                "final_success_rate": final}  # fmt: skip
+
+    rows = [row("ee_delta", 25, 0.1), row("ee_delta", 25, 0.3), row("ee_delta", 400, 0.9), row("joint_delta", 25, 0.0)]
+    rows.append(row("ee_delta", 0, 0.5, algo="tqc_her"))  # no demonstrations: at 0
+    assert points(rows) == {
+        ("ee_delta", "sparse", "bc"): {25: [0.1, 0.3], 400: [0.9]},
+        ("joint_delta", "sparse", "bc"): {25: [0.0]},
+        ("ee_delta", "sparse", "tqc_her"): {0: [0.5]},
+    }

@@ -139,7 +139,9 @@ def add_commands(sub) -> None:
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=cmd_robustness)
 
-    p = sub.add_parser("plot", help="one figure of success against steps over benches, a panel per task")
+    p = sub.add_parser(
+        "plot", help="one figure of success against steps (or demonstrations) over benches, a panel per task"
+    )
     p.add_argument("results", nargs="+", help="results.csv files written by unified-manip bench")
     p.add_argument("--out", required=True, type=figure_path, help="output figure (.png, .svg or .pdf)")
     p.add_argument("--columns", type=positive_int, default=4, help="panels per row")
@@ -147,6 +149,13 @@ def add_commands(sub) -> None:
         "--tasks",
         type=task_ids,
         help="comma-separated IDs: the panels, in this order (default: every task in the files)",
+    )
+    p.add_argument(
+        "--against",
+        choices=("steps", "demonstrations"),
+        default="steps",
+        help="x axis: evaluation success against environment steps (default), or final success against "
+        "the demonstration episodes each run learned from (benches of one grid at several dataset sizes)",
     )
     p.set_defaults(func=cmd_plot)
 
@@ -272,6 +281,10 @@ def cmd_plot(args: argparse.Namespace) -> int:
     for results in map(Path, args.results):
         if not results.is_file():
             raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
-    titles = plot_overview([Path(r) for r in args.results], Path(args.out), columns=args.columns, tasks=args.tasks)
+    if args.against == "demonstrations":
+        from unified_manip.experiments.scaling import plot_against_demonstrations as draw
+    else:
+        draw = plot_overview
+    titles = draw([Path(r) for r in args.results], Path(args.out), columns=args.columns, tasks=args.tasks)
     print(f"wrote {args.out} ({len(titles)} panels: {', '.join(titles)})")
     return 0

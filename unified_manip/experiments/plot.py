@@ -58,27 +58,42 @@ def _labeller(settings: list[Setting]):
     return label
 
 
+def pick_tasks(panels: dict[str, Any], tasks: list[str] | None, sources: list[Path]) -> dict[str, Any]:
+    """``panels`` restricted to ``tasks``, in that order (all of them when None).
+
+    Raises:
+        ResultsError: A task that no results file has a run of.
+    """
+    if tasks is None:
+        return panels
+    missing = [t for t in tasks if t not in panels]
+    if missing:
+        raise ResultsError(
+            f"no finished runs of {', '.join(missing)} in {', '.join(map(str, sources))}; "
+            f"the files hold runs of {', '.join(panels)}"
+        )
+    return {t: panels[t] for t in tasks}
+
+
+def panel_axes(plt: Any, panels: int, columns: int) -> tuple[Any, np.ndarray]:
+    """A figure with one axes per panel, ``columns`` (at most ``panels``) to a row."""
+    columns = max(1, min(columns, panels))
+    rows = math.ceil(panels / columns)
+    return plt.subplots(rows, columns, figsize=(3.4 * columns, 2.6 * rows), dpi=110, squeeze=False)
+
+
 def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[str] | None = None) -> list[str]:
     """Write the figure to ``out`` (its suffix picks the format); return the panels'
     titles, one per task, in drawing order. ``tasks`` picks the panels and their order
     (default: every task, in the order the results files first name them); a task that
     no file has a run of raises :class:`ResultsError`."""
     panels, targets = collect(sources)
-    if tasks is not None:
-        missing = [t for t in tasks if t not in panels]
-        if missing:
-            raise ResultsError(
-                f"no finished runs of {', '.join(missing)} in {', '.join(map(str, sources))}; "
-                f"the files hold runs of {', '.join(panels)}"
-            )
-        panels = {t: panels[t] for t in tasks}
+    panels = pick_tasks(panels, tasks, sources)
     every = sorted({s for settings in panels.values() for s in settings})
     label = _labeller(every)
     colour = {s: f"C{i % 10}" for i, s in enumerate(every)}  # one setting, one colour, in every panel
-    columns = max(1, min(columns, len(panels)))
-    rows = math.ceil(len(panels) / columns)
     plt = pyplot()
-    fig, axes = plt.subplots(rows, columns, figsize=(3.4 * columns, 2.6 * rows), dpi=110, squeeze=False)
+    fig, axes = panel_axes(plt, len(panels), columns)
     titles = []
     for ax, (task, settings) in zip(axes.flat, panels.items()):
         for setting, runs in sorted(settings.items()):
