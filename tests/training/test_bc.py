@@ -113,6 +113,11 @@ def test_bc_runs_in_a_bench_grid_and_loads_in_report(tmp_path):
     report = build_report(tmp_path / "out" / "results.csv", tmp_path / "report", dense_check=False)
     text = report.read_text()
     assert "100 gradient steps" in text and "bc" in text
+    assert (  # a cloned policy learns from the dataset: no replay buffer, and within its budget
+        f"- Demonstrations: 1 of 1 runs are behaviour cloning, fitted to 3 episodes of `{DATASET}` "
+        "(their success 1.00–1.00); their budget counts gradient steps on them.\n"
+    ) in text
+    assert "in the replay buffer" not in text
     record = json.loads((tmp_path / "out" / "runs" / summary_run(tmp_path) / "demonstrations.json").read_text())
     assert record["dataset"] == str(DATASET)
 

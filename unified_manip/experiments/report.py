@@ -43,6 +43,24 @@ def _budget_unit(row: dict) -> str:
     return "gradient steps" if row["algo"] == "bc" else "environment steps"
 
 
+def _demonstrations_lines(demonstrated: list[dict], total: int) -> list[str]:
+    """A line on the runs that fitted a dataset (``bc``: the data is what they learn from,
+    within their budget) and one on the runs that started from demonstrations."""
+    fitted = [r for r in demonstrated if r["algo"] == "bc"]
+    started = [r for r in demonstrated if r["algo"] != "bc"]
+    lines = [_demonstrations_line(started, total)] if started else []
+    if fitted:
+        records = [r["demonstrations"] for r in fitted]
+        episodes = sorted({d["episodes"] for d in records})
+        success = [d["success"] for d in records]
+        lines.append(
+            f"- Demonstrations: {len(fitted)} of {total} runs are behaviour cloning, fitted to "
+            f"{', '.join(map(str, episodes))} episodes of {_sources(records)} "
+            f"(their success {min(success):.2f}–{max(success):.2f}); their budget counts gradient steps on them."
+        )
+    return lines
+
+
 def _demonstrations_line(demonstrated: list[dict], total: int) -> str:
     """What the runs that started from scripted demonstrations were given (a prior they
     did not collect, so the report says so). Each record holds every demonstration
@@ -127,7 +145,7 @@ def build_report(
         f"- Seeds: {', '.join(map(str, seeds))}.",
         f"- Wall time (sum over runs): {sum(r['wall_time_s'] for r in rows) / 3600:.2f} h; "
         f"median {np.median([r['steps_per_s'] for r in rows]):.0f} training steps/s per run.",
-        *([_demonstrations_line(demonstrated, len(rows))] if demonstrated else []),
+        *_demonstrations_lines(demonstrated, len(rows)),
         *(
             [
                 f"- Env keyword arguments of every run (the grid's `env_kwargs`): `{json.dumps(env_kwargs, sort_keys=True)}`."
