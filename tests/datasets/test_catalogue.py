@@ -64,3 +64,25 @@ def test_collect_without_all_still_needs_env_and_episodes(tmp_path, capsys):
 def test_all_refuses_a_policy_or_mode_of_its_own(tmp_path, capsys, extra):
     assert main(["collect", "--all", "--out", str(tmp_path), *extra]) == 2
     assert "--all chooses the policies and modes itself" in capsys.readouterr().err
+
+
+def test_all_plays_the_best_finished_run_under_results_for_a_task_without_a_scripted_policy(
+    tmp_path, monkeypatch, capsys
+):
+    """HandReach has no scripted policy: ``--all`` finds a finished run of it under
+    ``results/*/runs/`` (relative to the working directory) and plays it. An untrained one
+    cannot give a successful episode in ten, so the task is skipped, naming the run."""
+    hand = "UnifiedManip/HandReach-v0"
+    run = tmp_path / "results" / "study" / "runs" / "hand"
+    sets = ["learning_starts=50", "batch_size=32", "buffer_size=1000", "eval_freq=100", "n_eval_episodes=1"]
+    train = ["train", "--env", hand, "--algo", "sac_her", "--steps", "100", "--run-dir", str(run), "--no-progress"]
+    assert main(train + [a for s in sets for a in ("--set", s)]) == 0
+    monkeypatch.chdir(tmp_path)
+    assert main(["collect", "--all", "--env", hand, "--episodes", "1", "--out", "all", "--no-progress"]) == 0
+    assert "0 datasets in all, 1 skipped" in capsys.readouterr().out
+    (entry,) = json.loads((tmp_path / "all" / "catalogue.json").read_text()).values()
+    assert entry["source"] == f"run {run.relative_to(tmp_path)} (deterministic)"
+    assert (entry["state"], entry["mode"]) == ("skipped", "native")
+    assert entry["reason"] == (
+        f"the run policy succeeded in 0 of 10 episodes of {hand}; 1 successful ones cannot be collected"
+    )
