@@ -139,3 +139,33 @@ def test_bc_without_a_matching_dataset_is_refused_before_anything_is_written(tmp
         train(_request(tmp_path / "run", mode, demonstrations), progress=False, threads=1)
     assert message in str(err.value)
     assert not (tmp_path / "run").exists()
+
+
+def test_a_bc_run_killed_outright_keeps_its_time_up_to_the_last_checkpoint(tmp_path):
+    """A session's end kills runs without a checkpoint of their own: the status must keep
+    the time to the last periodic checkpoint, which the resumed run adds its own to."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from unified_manip.training import checkpoints
+
+    run = tmp_path / "run"
+    sets = [a for s in (*SETTINGS, f"demonstrations={DATASET}") for a in ("--set", s)]
+    args = ["train", "--env", ARM, "--action-mode", "ee_delta", "--algo", "bc", "--run-dir", str(run)]
+    args += ["--no-progress", *sets, "--steps"]
+    env = {**os.environ, checkpoints.PAUSE_ENV: "2"}  # hold the second checkpoint (step 200)
+    child = subprocess.Popen([sys.executable, "-m", "unified_manip.cli", *args, "300"], env=env)
+    deadline = time.time() + 300
+    while not list(run.glob("checkpoints/*/PAUSED")):
+        assert child.poll() is None and time.time() < deadline
+        time.sleep(0.05)
+    child.send_signal(signal.SIGKILL)
+    child.wait()
+    killed = json.loads((run / "status.json").read_text())
+    assert (killed["state"], killed["num_timesteps"]) == ("running", 100) and killed["wall_time_s"] > 0, killed
+    train(_request(run, steps=300), progress=False, threads=1, log=lambda _: None)
+    final = json.loads((run / "status.json").read_text())
+    assert final["num_timesteps"] == 300 and final["wall_time_s"] > killed["wall_time_s"]

@@ -164,6 +164,10 @@ def _train_owned(req, run: RunConfig, algo_kwargs, config, progress: bool, log, 
                     evaluations.evaluate(model, step)
                 if step % run.checkpoint_freq == 0 and step < req.steps:
                     checkpoints.write(model, run_dir, off_policy=False)
+                    # The time so far goes with the checkpoint: a run killed outright (a
+                    # session's end) resumes from here and would otherwise lose it.
+                    elapsed = elapsed_before + time.time() - started
+                    rundir.write_status(run_dir, state="running", num_timesteps=step, wall_time_s=elapsed)
         rundir.write_final(run_dir, model, off_policy=False)
         rundir.write_status(
             run_dir,
