@@ -101,3 +101,30 @@ def test_generated_result_tables_equal_the_committed_reports():
             assert value in got.get(key, []), (results.parent.name, key, value, got.get(key))
             checked += 1
     assert checked >= 40
+
+
+def test_the_catalogue_table_sums_each_task_and_the_whole_set(tmp_path):
+    """``gen:catalogue``: ``collect --all``'s costs per task and in all, from its catalogue."""
+    import json
+
+    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
+    import resultpages
+
+    arm, hand = "UnifiedManip/Arm4Push-v0", "UnifiedManip/HandReach-v0"
+    entries = {
+        "a": {"task": arm, "mode": "ee_delta", "state": "written", "bytes": 2_000_000, "wall_s": 60.0, "cpu_s": 30.0},
+        "b": {
+            "task": arm,
+            "mode": "joint_delta",
+            "state": "skipped",
+            "converted": "23/49",
+            "wall_s": 30.0,
+            "cpu_s": 6.0,
+        },
+        "c": {"task": hand, "mode": "trained", "state": "skipped", "reason": "no run"},
+    }
+    (tmp_path / "catalogue.json").write_text(json.dumps(entries))
+    lines = resultpages.catalogue_table(tmp_path).splitlines()
+    assert lines[2] == "| Arm4Push-v0 | 1: `ee_delta` | `joint_delta` 23/49 | 2 MB | 1.5 min | 0.6 min |"
+    assert lines[3] == "| HandReach-v0 | 0: – | `trained`: no run | 0 MB | 0.0 min | 0.0 min |"
+    assert lines[5].startswith("**The whole set: 1 datasets of 3 tried, 0.00 GB, 0.03 h wall (0.01 h CPU)**")

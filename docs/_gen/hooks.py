@@ -90,6 +90,8 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         return resultpages.targets_table(_experiment(args[0]))
     if kind == "figures":
         return resultpages.figures(_experiment(args[0]), args[0], depth)
+    if kind == "catalogue":
+        return resultpages.catalogue_table(_experiment(args[0]))
     if kind == "command":
         return resultpages.command(_experiment(args[0]))
     raise ValueError(f"unknown marker gen:{kind}")
@@ -105,6 +107,7 @@ MARKERS = (
     "targets NAME",
     "figures NAME",
     "command NAME",
+    "catalogue NAME",
 )
 
 

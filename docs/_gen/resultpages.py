@@ -111,6 +111,45 @@ def _rank(png: Path, panels: tuple[str, ...]) -> int:
     return panels.index(kind) if kind in panels else len(panels)
 
 
+def catalogue_table(path: Path) -> str:
+    """Markdown: ``collect --all``'s ``catalogue.json`` per task (the datasets written, the
+    modes skipped with their conversion success, size and time), then the whole set's totals."""
+    import json
+
+    entries = json.loads((path / "catalogue.json").read_text())
+    by_task: dict[str, list[dict]] = defaultdict(list)
+    for entry in entries.values():
+        by_task[entry["task"]].append(entry)
+    rows = [
+        "| task | datasets (modes) | skipped: converted episodes, or why | size | wall time | CPU time |",
+        "|---|---|---|---:|---:|---:|",
+    ]
+    for task, items in by_task.items():
+        written = [f"`{e['mode']}`" for e in items if e["state"] == "written"]
+        skipped = [
+            f"`{e['mode']}` {e['converted']}" if "converted" in e else f"`{e['mode']}`: {e['reason']}"
+            for e in items
+            if e["state"] == "skipped"
+        ]
+        size = sum(e.get("bytes", 0) for e in items) / 1e6
+        wall, cpu = (sum(e.get(k, 0.0) for e in items) / 60 for k in ("wall_s", "cpu_s"))
+        rows.append(
+            f"| {task.split('/')[-1]} | {len(written)}: {', '.join(written) or '–'} | {'; '.join(skipped) or '–'} "
+            f"| {size:,.0f} MB | {wall:.1f} min | {cpu:.1f} min |"
+        )
+    every = list(entries.values())
+    written = sum(e["state"] == "written" for e in every)
+    size = sum(e.get("bytes", 0) for e in every) / 1e9
+    wall, cpu = (sum(e.get(k, 0.0) for e in every) / 3600 for k in ("wall_s", "cpu_s"))
+    rows += [
+        "",
+        f"**The whole set: {written} datasets of {len(every)} tried, {size:.2f} GB, {wall:.2f} h wall "
+        f"({cpu:.2f} h CPU)** on one core. Sizes are the datasets' files; the conversion sources under "
+        "`.sources/` are not counted. A conversion's time includes recording its source, where it did so.",
+    ]
+    return "\n".join(rows)
+
+
 def command(path: Path) -> str:
     """The experiment's ``command.txt`` as a code block."""
     text = (path / "command.txt").read_text().strip()
