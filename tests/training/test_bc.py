@@ -118,6 +118,7 @@ def test_bc_runs_in_a_bench_grid_and_loads_in_report(tmp_path):
         "(their success 1.00–1.00); their budget counts gradient steps on them.\n"
     ) in text
     assert "in the replay buffer" not in text
+    assert "## Success against gradient steps" in text  # and its figures' x axis (steps_label)
     record = json.loads((tmp_path / "out" / "runs" / summary_run(tmp_path) / "demonstrations.json").read_text())
     assert record["dataset"] == str(DATASET)
 

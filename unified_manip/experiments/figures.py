@@ -13,7 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from unified_manip.experiments.results import setting_label
+from unified_manip.experiments.results import setting_label, steps_label
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 
 
@@ -102,7 +102,7 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
         ax.axhline(level, color="0.4", linestyle="--", linewidth=1, label=label)
     band = interval_label(len(runs) for runs in groups.values())
     ax.set_title(f"{task}: evaluation success rate\n(mean over seeds, shaded: {band})", fontsize=9)
-    ax.set_xlabel("environment steps")
+    ax.set_xlabel(steps_label(r for runs in groups.values() for r in runs))
     ax.set_ylabel("success rate")
     return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_success.png")
 

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.experiments.figures import curve_band, interval_label, pyplot
-from unified_manip.experiments.results import ResultsError, read_results
+from unified_manip.experiments.results import ResultsError, read_results, steps_label
 from unified_manip.experiments.targets import grid_targets
 
 #: File types the figure may be written as (matplotlib picks the format by suffix).
@@ -113,10 +113,11 @@ def plot_overview(sources: list[Path], out: Path, columns: int = 4, tasks: list[
         ax.legend(fontsize=6, loc="best")
     for ax in list(axes.flat)[len(panels) :]:
         ax.set_visible(False)
-    fig.supxlabel("environment steps", fontsize=9)
+    x = steps_label(r for settings in panels.values() for runs in settings.values() for r in runs)
+    fig.supxlabel(x, fontsize=9)
     fig.supylabel("success rate", fontsize=9)
     band = interval_label(len(runs) for settings in panels.values() for runs in settings.values())
-    fig.suptitle(f"Evaluation success against environment steps (mean over seeds, shaded: {band})", fontsize=10)
+    fig.suptitle(f"Evaluation success against {x} (mean over seeds, shaded: {band})", fontsize=10)
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)

@@ -23,7 +23,7 @@ import yaml
 from unified_manip.experiments.aggregate_report import aggregate_section
 from unified_manip.experiments.figures import plot_final, plot_task
 from unified_manip.experiments.rankings import Groups, config_rankings, design_rankings
-from unified_manip.experiments.results import read_results, setting_key
+from unified_manip.experiments.results import budget_unit, read_results, setting_key, steps_label
 from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
 from unified_manip.experiments.robustness import robustness_section
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, seed_interval
@@ -36,11 +36,6 @@ def _group(rows: list[dict[str, Any]]) -> Groups:
     for r in rows:
         out[r["task"]][setting_key(r)].append(r)
     return out
-
-
-def _budget_unit(row: dict) -> str:
-    """What a run's ``steps`` counts: gradient steps for behaviour cloning (``bc``), else env steps."""
-    return "gradient steps" if row["algo"] == "bc" else "environment steps"
 
 
 def _demonstrations_lines(demonstrated: list[dict], total: int) -> list[str]:
@@ -133,7 +128,7 @@ def build_report(
         "```",
         "",
     ]
-    budgets = sorted({(r["steps"], _budget_unit(r)) for r in rows})
+    budgets = sorted({(r["steps"], budget_unit(r)) for r in rows})
     seeds = sorted({r["seed"] for r in rows})
     versions = sorted({json.dumps(r["versions"], sort_keys=True) for r in rows})
     demonstrated = [r for r in rows if r.get("demonstrations")]
@@ -195,7 +190,7 @@ def build_report(
         lines += ["## Benchmark table", ""]
         lines += benchmark_table(rows, targets)
 
-    lines += ["## Success against environment steps", ""]
+    lines += [f"## Success against {steps_label(rows)}", ""]
     for task, groups in by_task.items():
         fig = plot_task(task, groups, out, _task_targets(targets, task))
         lines += [f"![{task}]({fig.name})", ""]

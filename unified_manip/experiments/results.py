@@ -43,6 +43,18 @@ OPTIONAL_COLUMNS = ("demonstrations", "observation")
 SETTING = ("algo", "action_mode", "reward_type", "observation")
 
 
+def budget_unit(row: dict[str, Any]) -> str:
+    """What a run's ``steps`` counts: gradient steps for behaviour cloning (``bc``), else env steps."""
+    return "gradient steps" if row["algo"] == "bc" else "environment steps"
+
+
+def steps_label(rows: Any) -> str:
+    """The x axis of success against steps over these result rows: their one budget unit,
+    or both when behaviour cloning is drawn beside RL."""
+    units = sorted({budget_unit(r) for r in rows})
+    return units[0] if len(units) == 1 else "environment steps (RL) or gradient steps (bc)"
+
+
 def setting_key(row: dict[str, Any]) -> tuple[str, str, str, str]:
     """A row's (algo, action mode, reward type, observation design), as :data:`SETTING`."""
     return (row["algo"], row["action_mode"], row["reward_type"], row.get("observation") or "default")
