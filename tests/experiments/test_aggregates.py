@@ -179,6 +179,20 @@ def test_a_multi_task_report_writes_the_aggregate_sections_and_figures(tmp_path)
     assert "## Aggregates across tasks" not in text
 
 
+@pytest.mark.slow
+def test_with_one_run_per_task_the_aggregates_show_no_interval(tmp_path):
+    """A stratified bootstrap of one run per task resamples nothing: its "interval" would be
+    the point itself, so the report shows none and says why."""
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    write_results(bench, [r for r in _multi_task_rows() if r["seed"] == 0 and r["action_mode"] != "joint_torque"])
+    text = build_report(bench / "results.csv", tmp_path / "report", command="r", dense_check=False).read_text()
+    section = text[text.index("## Aggregates across tasks") :]
+    assert "with one run per task there is nothing to resample, so no interval is shown ([—])." in section
+    assert "| ee_delta | 2 | 0.95 [—] | 0.80 [—] | 1.00 |" in section  # finals 0.9 and 1.0; areas 0.7, 0.9
+    assert "| ee_delta | — | 1.00 [—] |" in section
+
+
 def _design_rows() -> list[dict]:
     """An observation study: two tasks, each in its own action mode, three designs, 2 seeds."""
     rows = []

@@ -14,6 +14,7 @@ import numpy as np
 
 from unified_manip.experiments.aggregates import (
     FACTORS,
+    MIN_RUNS_PER_TASK_FOR_CI,
     REPS,
     SEED,
     STEPS_THRESHOLD,
@@ -66,13 +67,20 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
     ranks = rank_table(s.final)
     order = sorted(s.modes, key=lambda m: (-iqm[m][0], m))
     runs = ", ".join(f"{m} {n}" for m, (n, _) in s.runs.items())
+    ci = min(n for n, _ in s.runs.values()) >= MIN_RUNS_PER_TASK_FOR_CI
     cut = {m: c for m, (_, c) in s.runs.items() if c}
     lines = [
         f"### {'' if factor == 'action_mode' else whats + ': '}{algo}, {reward} reward",
         "",
         f"{whats} run on all {len(s.tasks)} tasks ({', '.join(names)}), their runs per task: {runs}. "
         f"Each {short}'s final success over all its runs of all tasks; intervals are rliable's stratified "
-        f"bootstrap (runs resampled within each task, {REPS:,} resamples, 95%, seed {SEED}).",
+        f"bootstrap (runs resampled within each task, {REPS:,} resamples, 95%, seed {SEED})"
+        + (
+            "."
+            if ci
+            else f", shown only once every {short} has at least {MIN_RUNS_PER_TASK_FOR_CI} runs on each task: "
+            "with one run per task there is nothing to resample, so no interval is shown ([—])."
+        ),
         *(
             [
                 "Left out, as not run on every task: "
@@ -98,13 +106,13 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
         "|---|---:|---|---|---:|",
     ]
     for m in order:
-        lines.append(f"| {m} | {s.final[m].size} | {_iqm(iqm[m])} | {_iqm(auc[m])} | {ranks[m][1]:.2f} |")
+        lines.append(f"| {m} | {s.final[m].size} | {_iqm(iqm[m], ci)} | {_iqm(auc[m], ci)} | {ranks[m][1]:.2f} |")
     lines += [
         "",
         "Area under the success curve: each run's evaluation success averaged over the steps between its "
         "first and last evaluation (trapezoids), so 1.0 is success at every evaluation.",
         "",
-        f"![IQM across tasks, {algo}, {reward}]({_plot_iqm(order, iqm, auc, out / f'{stem}_iqm.png').name})",
+        f"![IQM across tasks, {algo}, {reward}]({_plot_iqm(order, iqm, auc, out / f'{stem}_iqm.png', ci).name})",
         "",
         "**Performance profile**: the fraction of runs (all tasks) whose final success exceeds τ.",
         "",
@@ -124,10 +132,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
         "|---|" + "---:|" * len(order),
     ]
     lines += [
-        f"| {x} | "
-        + " | ".join("—" if x == y else "{:.2f} [{:.2f}, {:.2f}]".format(*poi_ci[(x, y)]) for y in order)
-        + " |"
-        for x in order
+        f"| {x} | " + " | ".join("—" if x == y else _iqm(poi_ci[(x, y)], ci) for y in order) + " |" for x in order
     ]
     fig = _plot_improvement(order, poi, out / f"{stem}_improvement.png", short)
     lines += ["", f"![Probability of improvement, {algo}, {reward}]({fig.name})", ""]
@@ -154,24 +159,27 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
     return lines + [""]
 
 
-def _iqm(v: tuple[float, float, float]) -> str:
-    return f"{v[0]:.2f} [{v[1]:.2f}, {v[2]:.2f}]"
+def _iqm(v: tuple[float, float, float], ci: bool = True) -> str:
+    """A value and its interval, or ``[—]`` where no interval is shown."""
+    return f"{v[0]:.2f} [{v[1]:.2f}, {v[2]:.2f}]" if ci else f"{v[0]:.2f} [—]"
 
 
-def _plot_iqm(order: list[str], iqm: dict, auc: dict, path: Path) -> Path:
-    """IQM of final success and of the area under the curve, one row per mode, 95% CIs."""
+def _plot_iqm(order: list[str], iqm: dict, auc: dict, path: Path, ci: bool = True) -> Path:
+    """IQM of final success and of the area under the curve, one row per mode, 95% CIs
+    (none with ``ci`` False)."""
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(8, 0.9 + 0.38 * len(order)), dpi=110, sharey=True)
     y = np.arange(len(order))[::-1]
     for ax, values, title in ((axes[0], iqm, "IQM final success"), (axes[1], auc, "IQM area under success curve")):
         points = np.array([values[m][0] for m in order])
         err = np.array([[values[m][0] - values[m][1], values[m][2] - values[m][0]] for m in order]).T
-        ax.errorbar(points, y, xerr=err, fmt="o", color="C0", capsize=3)
+        ax.errorbar(points, y, xerr=err if ci else None, fmt="o", color="C0", capsize=3)
         ax.set_title(title, fontsize=9)
         ax.set_xlim(-0.02, 1.02)
         ax.grid(axis="x", alpha=0.3)
     axes[0].set_yticks(y, order, fontsize=8)
-    fig.supxlabel("across tasks (point: IQM of all runs; bar: 95% stratified bootstrap CI)", fontsize=8)
+    bar = "bar: 95% stratified bootstrap CI" if ci else "no interval: one run per task"
+    fig.supxlabel(f"across tasks (point: IQM of all runs; {bar})", fontsize=8)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

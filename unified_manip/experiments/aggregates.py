@@ -35,6 +35,9 @@ STEPS_THRESHOLD = 0.8
 #: Bootstrap resamples of every aggregate interval, and the seed they are drawn with.
 REPS = 2000
 SEED = 0
+#: Fewest runs of every mode on every task for an aggregate interval: a stratified bootstrap
+#: resamples runs within each task, so with one run per task it has nothing to resample.
+MIN_RUNS_PER_TASK_FOR_CI = 2
 #: Thresholds the performance profiles are evaluated at.
 TAUS = np.linspace(0.0, 1.0, 41)
 
@@ -172,7 +175,8 @@ def improvement_intervals(
     out: dict[tuple[str, str], tuple[float, float, float]] = {}
     for key in pairs:
         x, y = key.split(",")
-        p, low, high = float(point[key]), float(interval[key][0]), float(interval[key][1])
+        # rliable gives each estimate and bound as a one-element array.
+        p, low, high = (float(np.asarray(v).item()) for v in (point[key], interval[key][0], interval[key][1]))
         out[(x, y)] = (p, low, high)
         out[(y, x)] = (1.0 - p, 1.0 - high, 1.0 - low)
     return out
