@@ -16,6 +16,7 @@ from test_pretrain import _request as demonstrated_request
 
 from unified_manip.experiments.grid import GridError, load_grid
 from unified_manip.experiments.report import _demonstrations_line, build_report
+from unified_manip.experiments.report import _demonstrations_lines as report_demonstration_lines
 from unified_manip.experiments.results import collect_row, read_results, write_results
 from unified_manip.training import rundir
 from unified_manip.training.hyperparams import HyperparameterError, resolve, resolve_run
@@ -275,7 +276,7 @@ def test_every_committed_result_states_its_demonstrations_as_its_committed_repor
     states its runs' demonstrations, cloning and losses exactly as the same rows read now."""
     rows = read_results(results)
     demonstrated = [r for r in rows if r["demonstrations"]]
-    now = [_demonstrations_line(demonstrated, len(rows))] if demonstrated else []
+    now = report_demonstration_lines(demonstrated, len(rows))
     assert now == _demonstrations_lines((results.parent / "report" / "report.md").read_text())
 
 
