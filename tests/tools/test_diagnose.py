@@ -14,15 +14,35 @@ from unified_manip.tools import diagnose
 COMMITTED = ROOT / "results/action_spaces_families/runs/Arm4PickAndPlace-v0__joint_position__sparse__tqc_her__s0"
 
 
-def test_a_committed_run_gives_its_demonstrations_and_training_episodes():
+def test_a_committed_run_gives_its_demonstrations_and_training_episodes(tmp_path, monkeypatch):
     """Committed results carry no model: the demonstrations and the agent's own training
-    episodes are measured, and the note says why the policy is not played."""
+    episodes are measured, and the note says why the policy is not played, and that its
+    dataset (a path relative to where it trained) is not at hand here."""
+    monkeypatch.chdir(tmp_path)
     d = diagnose.diagnose(COMMITTED)
     assert (d.action_mode, d.demonstrations, d.demonstration_success) == ("joint_position", 96, 1.0)
     # 60k steps of 8 envs, 100-step episodes, as the monitor logged them: none succeeded.
     assert d.training_episodes == 600 and d.training_success == 0.0 and d.training_success_last_tenth == 0.0
     assert d.played is None and "has no model yet" in d.note
-    assert "| 96 (1.00) | 600 episodes: 0.00 (0.00) | – |" in diagnose.table([d])
+    assert d.demonstration_action_change is None
+    assert d.note.startswith("its dataset data/Arm4PickAndPlace-v0/joint_position-v0 is not at hand")
+    assert "| 96 (1.00) | – | 600 episodes: 0.00 (0.00) | – |" in diagnose.table([d])
+
+
+def test_action_statistics_by_hand():
+    one = np.array([[0.0, 0.0], [1.0, -1.0], [1.0, 0.5]])  # changes: mean(1, 1) = 1, mean(0, 1.5) = 0.75
+    two = np.array([[0.995, 0.0]])  # one step: no change; one component at a bound
+    stats = diagnose.action_statistics([one, two])
+    assert stats.mean_abs == pytest.approx((0 + 0 + 1 + 1 + 1 + 0.5 + 0.995 + 0) / 8)
+    assert stats.saturated == pytest.approx(4 / 8)
+    assert stats.change == pytest.approx((1 + 0.75) / 2)
+
+
+def test_a_dataset_at_hand_gives_its_action_change():
+    change, note = diagnose.dataset_action_change(
+        {"dataset": str(ROOT / "datasets/examples/arm4-pickandplace-ee_delta-v0")}
+    )
+    assert note == "" and 0.0 < change < 2.0  # a scripted pick and place moves, within the action bounds
 
 
 @pytest.fixture(scope="module")

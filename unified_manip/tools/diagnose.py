@@ -4,7 +4,9 @@ Issue 40 asks, for every action mode that fails on a task, what the mode did, me
 rather than guessed. For each run directory this reports:
 
 * **demonstrations:** the episodes the run started with and their success
-  (``demonstrations.json``);
+  (``demonstrations.json``), and, where they came from a dataset that is at hand (its path
+  as the run recorded it, relative to the working directory), how much their actions change
+  per step, to set beside the policy's;
 * **training episodes:** the success of the agent's own episodes, over all of them and
   over the last tenth (the ``monitor/`` CSVs);
 * **the policy,** played deterministically for ``--episodes`` seeded episodes: its
@@ -26,6 +28,7 @@ import json
 import sys
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -48,12 +51,47 @@ class Played:
     goal_moved_cm: float
 
 
+class ActionStatistics(NamedTuple):
+    """Actions over episodes: mean ``|a|``, the share of components at a bound
+    (:data:`SATURATED`), and the mean change between consecutive steps of an episode."""
+
+    mean_abs: float
+    saturated: float
+    change: float
+
+
+def action_statistics(episodes: list[np.ndarray]) -> ActionStatistics:
+    """:class:`ActionStatistics` of ``episodes``, each a ``steps x action dims`` array; a
+    change is the mean over components of ``|a_t - a_{t-1}|``, averaged over every step
+    after an episode's first."""
+    a = np.abs(np.concatenate(episodes))
+    changes = [np.abs(np.diff(e, axis=0)).mean(axis=1) for e in episodes if len(e) > 1]
+    change = float(np.concatenate(changes).mean()) if changes else 0.0
+    return ActionStatistics(float(a.mean()), float((a >= SATURATED).mean()), change)
+
+
+def dataset_action_change(demos: dict) -> tuple[float | None, str]:
+    """The demonstrations' action change per step (:func:`action_statistics`), from the
+    dataset ``demonstrations.json`` names; None and why where there is none at hand."""
+    path = demos.get("dataset")
+    if not path:
+        return None, ""
+    if not Path(path).is_dir():
+        return None, f"its dataset {path} is not at hand (from this working directory)"
+    from unified_manip.datasets import store
+
+    dataset = store.open_dataset(Path(path))
+    episodes = [np.asarray(e.actions, dtype=np.float64) for e in dataset.iterate_episodes()]
+    return action_statistics(episodes).change, ""
+
+
 @dataclass(frozen=True)
 class Diagnosis:
     run: str
     action_mode: str
     demonstrations: int
     demonstration_success: float | None
+    demonstration_action_change: float | None
     training_episodes: int
     training_success: float | None
     training_success_last_tenth: float | None
@@ -90,32 +128,30 @@ def play(run_dir: Path, episodes: int) -> Played:
     backend = env.unwrapped.backend
     group = backend.observation_groups().get("object_rel")
     distance = (lambda: float(np.linalg.norm(group.read(backend)))) if group else (lambda: np.nan)
-    actions, changes, closest, moved, successes = [], [], [], [], 0
+    actions, closest, moved, successes = [], [], [], 0
     for ep in range(episodes):
         obs, info = env.reset(seed=FIRST_SEED + ep)
-        start, done, last = obs["achieved_goal"].copy(), False, None
+        start, done, taken = obs["achieved_goal"].copy(), False, []
         near, far = distance(), 0.0
         while not done:
             action = np.asarray(policy.act(obs), dtype=np.float64)
             obs, _, terminated, truncated, info = env.step(action)
             done = terminated or truncated
-            actions.append(action)
-            if last is not None:
-                changes.append(float(np.abs(action - last).mean()))
-            last = action
+            taken.append(action)
             near = min(near, distance())
             far = max(far, float(np.linalg.norm(obs["achieved_goal"] - start)))
+        actions.append(np.stack(taken))
         closest.append(near)
         moved.append(far)
         successes += int(info.get("is_success", 0.0) > 0.5)
     policy.close()
-    a = np.abs(np.stack(actions))
+    stats = action_statistics(actions)
     return Played(
         episodes,
         successes / episodes,
-        float(a.mean()),
-        float((a >= SATURATED).mean()),
-        float(np.mean(changes)) if changes else 0.0,
+        stats.mean_abs,
+        stats.saturated,
+        stats.change,
         100 * float(np.median(closest)) if group else None,
         100 * float(np.median(moved)),
     )
@@ -130,6 +166,7 @@ def diagnose(run_dir: Path, episodes: int = 20) -> Diagnosis:
     demos_path = run_dir / "demonstrations.json"
     demos = json.loads(demos_path.read_text()) if demos_path.is_file() else {}
     n, success, last = training_success(run_dir)
+    data_change, data_note = dataset_action_change(demos)
     played, note = None, ""
     try:
         played = play(run_dir, episodes)
@@ -140,16 +177,21 @@ def diagnose(run_dir: Path, episodes: int = 20) -> Diagnosis:
         config["env_kwargs"]["action_mode"],
         int(demos.get("episodes", 0)),
         demos.get("success"),
+        data_change,
         n,
         success,
         last,
         played,
-        note,
+        "; ".join(n for n in (data_note, note) if n),
     )
 
 
 def _pct(value: float | None) -> str:
     return "–" if value is None else f"{value:.2f}"
+
+
+def _change(value: float | None) -> str:
+    return "–" if value is None else f"{value:.3f}"
 
 
 def _num(value: float | None) -> str:
@@ -159,9 +201,9 @@ def _num(value: float | None) -> str:
 def table(rows: list[Diagnosis]) -> str:
     """Markdown, one row per run."""
     lines = [
-        "| run | mode | demonstrations (success) | training episodes: success (last tenth) | played: success "
-        "| mean abs action | at bounds | change per step | closest approach, cm | goal moved, cm |",
-        "|---|---|---|---|---:|---:|---:|---:|---:|---:|",
+        "| run | mode | demonstrations (success) | their change per step | training episodes: success (last tenth) "
+        "| played: success | mean abs action | at bounds | change per step | closest approach, cm | goal moved, cm |",
+        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|",
     ]
     for d in rows:
         p = d.played
@@ -173,6 +215,7 @@ def table(rows: list[Diagnosis]) -> str:
         )
         lines.append(
             f"| {d.run} | `{d.action_mode}` | {d.demonstrations} ({_pct(d.demonstration_success)}) "
+            f"| {_change(d.demonstration_action_change)} "
             f"| {d.training_episodes} episodes: {_pct(d.training_success)} ({_pct(d.training_success_last_tenth)}) "
             f"| {played} |"
         )
