@@ -5,10 +5,9 @@ directories and every committed result still read."""
 
 from __future__ import annotations
 
-import re
-
 import dataclasses
 import json
+import re
 from pathlib import Path
 
 import pytest
