@@ -68,16 +68,26 @@ def test_the_api_reference_is_rendered_from_the_docstrings(site):
     assert "EnvConfig" in page and "UnifiedManipEnv" in page and "doc-heading" in page
 
 
-def _report_rows(report: Path) -> dict[tuple[str, str, str, str], str]:
-    """``(task, algo, mode, reward) -> "mean [lo, hi]"`` from a committed report's
-    "Final success rate" table."""
+def _table_rows(text: str) -> list[dict[str, str]]:
+    """The rows of the first Markdown table in ``text``, each as ``{header: cell}``."""
+    lines = [line for line in text.splitlines() if line.startswith("|")]
+    split = [[c.strip() for c in line.strip("|").split("|")] for line in lines]
+    return [dict(zip(split[0], cells)) for cells in split[2:]]
+
+
+def _setting(row: dict[str, str], mode: str) -> tuple[str, str, str, str, str]:
+    return (row["task"], row["algo"], row[mode].strip("`"), row.get("observation", "default"), row["reward"])
+
+
+def _report_rows(report: Path) -> dict[tuple[str, str, str, str, str], str]:
+    """``(task, algo, mode, observation, reward) -> "mean [lo, hi]"`` from a committed
+    report's "Final success rate" table."""
     text = report.read_text().split("## Final success rate", 1)[1].split("\n## ", 1)[0]
     rows = {}
-    for line in text.splitlines():
-        cells = [c.strip() for c in line.strip("|").split("|")]
-        if len(cells) >= 7 and re.fullmatch(r"\d\.\d\d", cells[5]):
-            interval = f" {cells[6]}" if cells[6].startswith("[") and "—" not in cells[6] else ""
-            rows[(cells[0], cells[1], cells[2], cells[3])] = cells[5] + interval
+    for row in _table_rows(text):
+        interval = row["interval"].split(" (", 1)[0]
+        interval = f" {interval}" if interval.startswith("[") else ""
+        rows[_setting(row, "action mode")] = row["mean"] + interval
     return rows
 
 
@@ -91,12 +101,9 @@ def test_generated_result_tables_equal_the_committed_reports():
         if not report.is_file():
             continue
         expected = _report_rows(report)
-        table = resultpages.final_table([results])
         got = {}
-        for line in table.splitlines()[2:]:
-            cells = [c.strip() for c in line.strip("|").split("|")]
-            if len(cells) == 11:
-                got.setdefault((cells[0], cells[3], cells[1].strip("`"), cells[2]), []).append(cells[7])
+        for row in _table_rows(resultpages.final_table([results])):
+            got.setdefault(_setting(row, "mode"), []).append(row["final success [interval]"].split(" (", 1)[0])
         for key, value in expected.items():
             assert value in got.get(key, []), (results.parent.name, key, value, got.get(key))
             checked += 1
@@ -128,3 +135,23 @@ def test_the_catalogue_table_sums_each_task_and_the_whole_set(tmp_path):
     assert lines[2] == "| Arm4Push-v0 | 1: `ee_delta` | `joint_delta` 23/49 | 2 MB | 1.5 min | 0.6 min |"
     assert lines[3] == "| HandReach-v0 | 0: – | `trained`: no run | 0 MB | 0.0 min | 0.0 min |"
     assert lines[5].startswith("**The whole set: 1 datasets of 3 tried, 0.00 GB, 0.03 h wall (0.01 h CPU)**")
+
+
+def test_the_robustness_marker_repeats_the_committed_report():
+    """``gen:robustness``: each task's table is the report's, to the digit, and its figure
+    is the report's figure."""
+    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
+    import resultpages
+
+    committed = sorted(p.parent for p in (ROOT / "results").glob("*/robustness.csv"))
+    assert committed
+    for path in committed:
+        page = resultpages.robustness(path, path.name, depth=1)
+        report = (path / "report" / "report.md").read_text().split("## Robustness of the final policies", 1)[1]
+        tables = re.findall(r"\*\*[^*]+\*\*:\n\n((?:\|.*\n)+)", page + "\n")
+        figures = re.findall(r"\(\.\./assets/results/[^/]+/([^)]+)\)", page)
+        assert tables and len(figures) == len(tables)
+        assert all(table in report for table in tables)
+        assert all((path / "report" / figure).is_file() for figure in figures), figures
+    with pytest.raises(ValueError, match="no robustness.csv"):
+        resultpages.robustness(ROOT / "results" / "benchmark", "benchmark", depth=1)

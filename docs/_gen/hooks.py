@@ -90,6 +90,8 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         return resultpages.targets_table(_experiment(args[0]))
     if kind == "figures":
         return resultpages.figures(_experiment(args[0]), args[0], depth)
+    if kind == "robustness":
+        return resultpages.robustness(_experiment(args[0]), args[0], depth)
     if kind == "catalogue":
         return resultpages.catalogue_table(_experiment(args[0]))
     if kind == "command":
@@ -108,6 +110,7 @@ MARKERS = (
     "figures NAME",
     "command NAME",
     "catalogue NAME",
+    "robustness NAME",
 )
 
 

@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from unified_manip.experiments.results import read_results
+from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
+from unified_manip.experiments.robustness import robustness_tables
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 
@@ -43,20 +45,23 @@ def _demos(row) -> str:
 
 
 def final_table(paths: list[Path]) -> str:
-    """Markdown: one row per setting (task, mode, reward, algorithm, demonstrations) of
-    the given ``results.csv`` files, with the mean final success over seeds, its interval
-    (:func:`seed_interval`, as in the report: the seeds' range below 5 seeds, the 95%
-    bootstrap CI from 5) and each seed's value."""
+    """Markdown: one row per setting (task, mode, observation design, reward, algorithm,
+    demonstrations) of the given ``results.csv`` files, with the mean final success over
+    seeds, its interval (:func:`seed_interval`, as in the report: the seeds' range below 5
+    seeds, the 95% bootstrap CI from 5) and each seed's value. The design gets a column
+    only where some run has a design other than the default, as in the report."""
     groups = defaultdict(list)
     for path in paths:
         for r in read_results(path):
-            groups[(r["task"], r["action_mode"], r["reward_type"], r["algo"], _demos(r), r["steps"])].append(r)
+            key = (r["task"], r["action_mode"], r["observation"], r["reward_type"], r["algo"], _demos(r), r["steps"])
+            groups[key].append(r)
+    designs = any(key[2] != "default" for key in groups)  # a column only where some run has one
     rows = [
-        "| task | mode | reward | algo | demonstrations | budget | seeds | final success [interval] | per seed "
-        "| wall time per run | steps/s |",
-        "|---|---|---|---|---|---:|---:|---|---|---:|---:|",
+        f"| task | mode |{' observation |' if designs else ''} reward | algo | demonstrations | budget | seeds "
+        "| final success [interval] | per seed | wall time per run | steps/s |",
+        "|---|---|" + ("---|" if designs else "") + "---|---|---|---:|---:|---|---|---:|---:|",
     ]
-    for (task, mode, reward, algo, demos, steps), runs in sorted(groups.items()):
+    for (task, mode, design, reward, algo, demos, steps), runs in sorted(groups.items()):
         runs.sort(key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
         interval = seed_interval(finals).text()
@@ -65,7 +70,8 @@ def final_table(paths: list[Path]) -> str:
         wall = float(np.median([r["wall_time_s"] for r in runs])) / 3600
         rate = float(np.median([r["steps_per_s"] for r in runs]))
         rows.append(
-            f"| {task.split('/')[-1]} | `{mode}` | {reward} | {algo} | {demos} | {steps:,} | {len(runs)} "
+            f"| {task.split('/')[-1]} | `{mode}` |{f' {design} |' if designs else ''} {reward} | {algo} | {demos} "
+            f"| {steps:,} | {len(runs)} "
             f"| {np.mean(finals):.2f}{interval} | {seeds} | {wall:.2f} h | {rate:.0f} |"
         )
     return "\n".join(
@@ -103,6 +109,26 @@ def figures(path: Path, name: str, depth: int) -> str:
     if training:
         out += ['??? note "Training episodes: success and return against steps"', ""]
         out += [f"    ![{png.stem}]({up}{ASSETS}/{name}/{png.name})\n" for png in training]
+    return "\n".join(out)
+
+
+def robustness(path: Path, name: str, depth: int) -> str:
+    """Markdown: per task, the final policies' success under observation noise and delay
+    (``robustness.csv``, by the report's own table function) and the report's figure of it."""
+    tables = robustness_tables(path / ROBUSTNESS_FILE)
+    if not tables:
+        raise ValueError(f"no {ROBUSTNESS_FILE} in {path}; run unified-manip robustness on its runs")
+    out = []
+    for task, table in tables.items():
+        short = task.split("/")[-1]
+        out += [
+            f"**{short}**:",
+            "",
+            *table,
+            "",
+            f"![{short} robustness]({'../' * depth}{ASSETS}/{name}/{short}_robustness.png)",
+            "",
+        ]
     return "\n".join(out)
 
 

@@ -143,20 +143,39 @@ def evaluate_bench(
     return path
 
 
-def robustness_section(path: Path, out: Path) -> list[str]:
-    """Markdown lines: per task, each design's mean success over seeds (and the seeds'
-    range) under each condition, and a figure of it in ``out``. None when there is no
-    ``robustness.csv``."""
-    rows = read_robustness(path)
-    if not rows:
-        return []
+def _cells(rows: list[dict[str, Any]]) -> tuple[dict, list[tuple[float, int]], list[str]]:
+    """``task -> (design, mode) -> (noise, delay) -> [success per seed]``, the conditions in
+    order (no delay first, by noise) and their column heads."""
     cells: dict[str, dict[tuple[str, str], dict[tuple[float, int], list[float]]]] = defaultdict(
         lambda: defaultdict(lambda: defaultdict(list))
     )
     for r in rows:
         cells[r["task"]][(r["observation"], r["action_mode"])][(r["noise"], r["delay"])].append(r["success_rate"])
     keys = sorted({(r["noise"], r["delay"]) for r in rows}, key=lambda k: (k[1], k[0]))
-    heads = [Condition(n, d).label for n, d in keys]
+    return cells, keys, [Condition(n, d).label for n, d in keys]
+
+
+def robustness_tables(path: Path) -> dict[str, list[str]]:
+    """Per task of ``robustness.csv``: Markdown lines of a table with each design's mean
+    success over seeds (and the seeds' range) under each condition. Empty without the file."""
+    cells, keys, heads = _cells(read_robustness(path))
+    tables = {}
+    for task, designs in sorted(cells.items()):
+        lines = ["| observation design | mode | " + " | ".join(heads) + " |", "|---|---|" + "---|" * len(heads)]
+        for (design, mode), by_condition in sorted(designs.items()):
+            lines.append(f"| {design} | {mode} | " + " | ".join(_cell(by_condition.get(k, [])) for k in keys) + " |")
+        tables[task] = lines
+    return tables
+
+
+def robustness_section(path: Path, out: Path) -> list[str]:
+    """Markdown lines: per task, each design's mean success over seeds (and the seeds'
+    range) under each condition (:func:`robustness_tables`), and a figure of it in ``out``.
+    None when there is no ``robustness.csv``."""
+    rows = read_robustness(path)
+    if not rows:
+        return []
+    cells, keys, heads = _cells(rows)
     episodes = sorted({r["episodes"] for r in rows})
     lines = [
         "## Robustness of the final policies",
@@ -167,18 +186,9 @@ def robustness_section(path: Path, out: Path) -> list[str]:
         f"brackets. Made by `unified-manip robustness` into `{Path(path).name}`.",
         "",
     ]
-    for task, designs in sorted(cells.items()):
-        lines += [
-            f"**{task.split('/')[-1]}**:",
-            "",
-            "| observation design | mode | " + " | ".join(heads) + " |",
-            "|---|---|" + "---|" * len(heads),
-        ]
-        for (design, mode), by_condition in sorted(designs.items()):
-            values = [by_condition.get(k, []) for k in keys]
-            lines.append(f"| {design} | {mode} | " + " | ".join(_cell(v) for v in values) + " |")
-        figure = _plot(task, designs, keys, heads, Path(out))
-        lines += ["", f"![{task} robustness]({figure.name})", ""]
+    for task, table in robustness_tables(path).items():
+        figure = _plot(task, cells[task], keys, heads, Path(out))
+        lines += [f"**{task.split('/')[-1]}**:", "", *table, "", f"![{task} robustness]({figure.name})", ""]
     return lines
 
 
