@@ -48,7 +48,7 @@ def test_a_task_without_a_scripted_policy_or_trained_run_is_skipped_with_its_rea
     assert entry["state"] == "skipped"
     assert entry["reason"] == (
         "no scripted policy to collect it and no finished run with a final model under results/ "
-        "(trained models are not committed)"
+        "(models are committed only in results/policies/)"
     )
     assert lines == [f"HandReach-v0-trained-v0: skipped ({entry['reason']})"]
 
@@ -76,13 +76,17 @@ def test_all_plays_the_best_finished_run_under_results_for_a_task_without_a_scri
     run = tmp_path / "results" / "study" / "runs" / "hand"
     sets = ["learning_starts=50", "batch_size=32", "buffer_size=1000", "eval_freq=100", "n_eval_episodes=1"]
     train = ["train", "--env", hand, "--algo", "sac_her", "--steps", "100", "--run-dir", str(run), "--no-progress"]
-    assert main(train + [a for s in sets for a in ("--set", s)]) == 0
+    collect = ["collect", "--all", "--env", hand, "--episodes", "1", "--out", "all", "--no-progress"]
     monkeypatch.chdir(tmp_path)
-    assert main(["collect", "--all", "--env", hand, "--episodes", "1", "--out", "all", "--no-progress"]) == 0
-    assert "0 datasets in all, 1 skipped" in capsys.readouterr().out
-    (entry,) = json.loads((tmp_path / "all" / "catalogue.json").read_text()).values()
+    assert main(collect) == 0  # no run yet: the task's placeholder entry says so
+    assert list(json.loads((tmp_path / "all" / "catalogue.json").read_text())) == ["HandReach-v0-trained-v0"]
+    assert main(train + [a for s in sets for a in ("--set", s)]) == 0
+    assert main(collect) == 0
+    assert "0 datasets in all, 1 skipped" in capsys.readouterr().out.splitlines()[-1]
+    (entry,) = json.loads((tmp_path / "all" / "catalogue.json").read_text()).values()  # the placeholder is gone
     assert entry["source"] == f"run {run.relative_to(tmp_path)} (deterministic)"
     assert (entry["state"], entry["mode"]) == ("skipped", "native")
+    assert entry["wall_s"] > 0 and entry["cpu_s"] > 0  # its cost counts in the set's
     assert entry["reason"] == (
         f"the run policy succeeded in 0 of 10 episodes of {hand}; 1 successful ones cannot be collected"
     )

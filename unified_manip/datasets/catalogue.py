@@ -87,7 +87,7 @@ def collect_all(
             if task_id in failed_tasks:
                 entry = {"task": task_id, "mode": mode, "state": "skipped", "reason": failed_tasks[task_id]}
             elif mode == "trained":
-                entry = _trained(root, task_id, episodes, (trained or {}).get(task_id), scripted=False)
+                entry = _trained_entry(root, manifest, task_id, episodes, (trained or {}).get(task_id), False)
             elif (root / name).is_dir():
                 entry = done or {"task": task_id, "mode": mode, "state": "written", "episodes": episodes}
             elif done.get("state") == "skipped" and done.get("episodes") == episodes:
@@ -98,7 +98,7 @@ def collect_all(
             if mode == "ee_delta" and entry["state"] == "skipped":
                 failed_tasks[task_id] = f"no ee_delta dataset to convert: {entry['reason']}"
                 if trained and task_id in trained:
-                    run = _trained(root, task_id, episodes, trained[task_id], scripted=True)
+                    run = _trained_entry(root, manifest, task_id, episodes, trained[task_id], True)
                     _record(root, manifest, run["name"], run, log)
     return manifest
 
@@ -166,6 +166,22 @@ def _record(root: Path, manifest: dict, name: str, entry: dict, log: Callable[[s
     log(f"{name}: {entry['state']}" + (f" ({entry['reason']})" if entry.get("reason") else ""))
 
 
+def _trained_entry(
+    root: Path, manifest: dict, task_id: str, episodes: int, run: tuple | None, scripted: bool
+) -> dict[str, Any]:
+    """:func:`_trained`'s entry with its cost (:func:`_timed`). A dataset already written is
+    kept as recorded; a run found now replaces the ``TASK-trained-v0`` placeholder that an
+    earlier call without one recorded."""
+    placeholder = f"{task_id.split('/')[-1]}-trained-v0"
+    if run is not None:
+        name = dataset_name(task_id, run[2]["action_mode"])
+        done = manifest.get(name, {})
+        if done.get("state") == "written" and (root / name).is_dir():
+            return {"name": name, **done}
+        manifest.pop(placeholder, None)
+    return _timed(root, placeholder, lambda: _trained(root, task_id, episodes, run, scripted))
+
+
 def _trained(root: Path, task_id: str, episodes: int, run: tuple | None, scripted: bool) -> dict[str, Any]:
     """The dataset of a trained run's policy on ``task_id``, in the run's mode; skipped without one."""
     from unified_manip.datasets.recording import collect
@@ -178,7 +194,7 @@ def _trained(root: Path, task_id: str, episodes: int, run: tuple | None, scripte
             "name": f"{task_id.split('/')[-1]}-trained-v0",
             "state": "skipped",
             "reason": f"{why} collect it and no finished run with a final model under results/ "
-            "(trained models are not committed)",
+            "(models are committed only in results/policies/)",
         }
     make_policy, source, kwargs = run
     name = dataset_name(task_id, kwargs["action_mode"])
