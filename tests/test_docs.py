@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import unified_manip
@@ -155,3 +156,25 @@ def test_the_robustness_marker_repeats_the_committed_report():
         assert all((path / "report" / figure).is_file() for figure in figures), figures
     with pytest.raises(ValueError, match="no robustness.csv"):
         resultpages.robustness(ROOT / "results" / "benchmark", "benchmark", depth=1)
+
+
+def test_the_readme_benchmark_table_equals_the_committed_results():
+    """Every row of the README's benchmark table: its seeds' mean and range, recomputed from
+    the committed ``results/benchmark*/results.csv``."""
+    from collections import defaultdict
+
+    from unified_manip.experiments.results import read_results
+
+    finals = defaultdict(list)
+    for path in sorted((ROOT / "results").glob("benchmark*/results.csv")):
+        for r in read_results(path):
+            demos = bool(r.get("demonstrations") and r["demonstrations"]["episodes"])
+            finals[(r["task"].split("/")[-1], r["action_mode"], demos, r["steps"])].append(r["final_success_rate"])
+    text = (ROOT / "README.md").read_text().split("## Benchmark", 1)[1].split("\n## ", 1)[0]
+    rows = _table_rows(text)
+    assert len(rows) >= 10
+    for row in rows:
+        key = (row["task"], row["mode"], "demos" in row["recipe"], int(row["budget"].rstrip("k")) * 1000)
+        values = finals[key]
+        assert len(values) == int(row["seeds"]), (key, values)
+        assert row["final success"] == f"{np.mean(values):.2f} [{min(values):.2f}, {max(values):.2f}]", (key, values)
