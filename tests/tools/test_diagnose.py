@@ -10,6 +10,7 @@ import pytest
 from conftest import ROOT, cli_in_process
 
 from unified_manip.tools import diagnose
+from unified_manip.training.rundir import RunDirectoryError
 
 COMMITTED = ROOT / "results/action_spaces_families/runs/Arm4PickAndPlace-v0__joint_position__sparse__tqc_her__s0"
 
@@ -38,6 +39,22 @@ def test_action_statistics_by_hand():
     assert stats.change == pytest.approx((1 + 0.75) / 2)
 
 
+def test_the_final_model_is_played_unless_the_best_is_asked_for(tmp_path):
+    """The tables report final success, so the final model is the one to explain; a run
+    still training plays its newest checkpoint, and only ``best`` falls back like eval."""
+    (tmp_path / "best").mkdir()
+    for name in ("final_model.zip", "best/best_model.zip"):
+        (tmp_path / name).write_bytes(b"")
+    assert diagnose.model_to_play(tmp_path) == tmp_path / "final_model.zip"
+    assert diagnose.model_to_play(tmp_path, "best") == tmp_path / "best" / "best_model.zip"
+    (tmp_path / "final_model.zip").unlink()
+    with pytest.raises(RunDirectoryError, match=r"no final model or checkpoint\) \(--model best plays"):
+        diagnose.model_to_play(tmp_path)
+    assert diagnose.model_to_play(tmp_path, "best") == tmp_path / "best" / "best_model.zip"
+    with pytest.raises(ValueError, match="model must be one of final, best; got 'last'"):
+        diagnose.model_to_play(tmp_path, "last")
+
+
 def test_a_dataset_at_hand_gives_its_action_change():
     change, note = diagnose.dataset_action_change(
         {"dataset": str(ROOT / "datasets/examples/arm4-pickandplace-ee_delta-v0")}
@@ -62,6 +79,7 @@ def test_a_trained_policy_is_played_and_measured(pick_and_place_run, tmp_path):
     assert diagnose.main([str(pick_and_place_run), "--episodes", "2", "--json", str(out)]) == 0
     d = diagnose.diagnose(pick_and_place_run, episodes=2)
     p = d.played
+    assert p.model == "final_model.zip"
     assert d.training_episodes == 2 and d.demonstrations == 0  # 200 steps of 100-step episodes
     assert p.episodes == 2 and 0.0 <= p.success <= 1.0 and 0.0 <= p.saturated <= 1.0
     # The closest approach is at most the distance at reset, measured here on the same seeds.

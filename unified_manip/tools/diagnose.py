@@ -16,8 +16,11 @@ rather than guessed. For each run directory this reports:
   and how far the achieved goal (the object, on object tasks) got from where it started
   (cm, median over episodes).
 
-Committed results carry no models, so for them only the first two are measured; run it
-where the runs trained.
+The policy played is the run's final model (``--model final``, the default: the one whose
+evaluation is the run's final success; a run still training plays its newest checkpoint),
+or the best evaluated one (``--model best``, as ``unified-manip eval`` picks it). Committed
+results carry no models, so for them only the first two are measured; run it where the runs
+trained.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ SATURATED = 0.99
 class Played:
     """The policy, played: see the module docstring."""
 
+    model: str  # the model file played, relative to the run directory
     episodes: int
     success: float
     mean_abs_action: float
@@ -119,11 +123,33 @@ def training_success(run_dir: Path) -> tuple[int, float | None, float | None]:
     return len(success), float(success.mean()), float(tail.mean())
 
 
-def play(run_dir: Path, episodes: int) -> Played:
-    """Play the run's model (best, else final, else newest checkpoint) deterministically."""
+#: ``--model`` choices: which of a run's models :func:`play` plays.
+MODELS = ("final", "best")
+
+
+def model_to_play(run_dir: Path, which: str = "final") -> Path:
+    """``final``: the run's final model, else its newest checkpoint (a run still training);
+    ``best``: the model ``unified-manip eval`` picks (best, else final, else newest checkpoint)."""
+    from unified_manip.training import checkpoints, rundir
+
+    if which not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}; got {which!r}")
+    if which == "best":
+        return rundir.model_to_evaluate(run_dir, run_dir)
+    ckpt = checkpoints.newest(run_dir)
+    for path in (run_dir / "final_model.zip", ckpt.path(checkpoints.MODEL) if ckpt else None):
+        if path is not None and path.is_file():
+            return path
+    best = " (--model best plays its best model)" if (run_dir / "best" / "best_model.zip").is_file() else ""
+    raise rundir.RunDirectoryError(f"{run_dir} has no model yet (no final model or checkpoint){best}")
+
+
+def play(run_dir: Path, episodes: int, which: str = "final") -> Played:
+    """Play the run's model (:func:`model_to_play`) deterministically."""
     from unified_manip.training.evaluation import open_policy
 
-    policy = open_policy(run_dir)
+    model = model_to_play(run_dir, which)
+    policy = open_policy(model)
     env = policy.env
     backend = env.unwrapped.backend
     group = backend.observation_groups().get("object_rel")
@@ -147,6 +173,7 @@ def play(run_dir: Path, episodes: int) -> Played:
     policy.close()
     stats = action_statistics(actions)
     return Played(
+        str(model.relative_to(run_dir)),
         episodes,
         successes / episodes,
         stats.mean_abs,
@@ -157,10 +184,11 @@ def play(run_dir: Path, episodes: int) -> Played:
     )
 
 
-def diagnose(run_dir: Path, episodes: int = 20) -> Diagnosis:
+def diagnose(run_dir: Path, episodes: int = 20, which: str = "final") -> Diagnosis:
     """Everything the module docstring lists that ``run_dir`` allows."""
     from unified_manip.training import rundir
     from unified_manip.training.request import TrainError
+    from unified_manip.training.rundir import RunDirectoryError
 
     config = rundir.read_config(run_dir)
     demos_path = run_dir / "demonstrations.json"
@@ -169,8 +197,8 @@ def diagnose(run_dir: Path, episodes: int = 20) -> Diagnosis:
     data_change, data_note = dataset_action_change(demos)
     played, note = None, ""
     try:
-        played = play(run_dir, episodes)
-    except TrainError as err:
+        played = play(run_dir, episodes, which)
+    except (TrainError, RunDirectoryError) as err:
         note = str(err)
     return Diagnosis(
         run_dir.name,
@@ -202,16 +230,17 @@ def table(rows: list[Diagnosis]) -> str:
     """Markdown, one row per run."""
     lines = [
         "| run | mode | demonstrations (success) | their change per step | training episodes: success (last tenth) "
-        "| played: success | mean abs action | at bounds | change per step | closest approach, cm | goal moved, cm |",
-        "|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|",
+        "| played model | played: success | mean abs action | at bounds | change per step | closest approach, cm "
+        "| goal moved, cm |",
+        "|---|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     for d in rows:
         p = d.played
         played = (
-            f"{p.success:.2f} | {p.mean_abs_action:.2f} | {p.saturated:.2f} | {p.action_change:.2f} "
+            f"{p.model} | {p.success:.2f} | {p.mean_abs_action:.2f} | {p.saturated:.2f} | {p.action_change:.2f} "
             f"| {_num(p.closest_approach_cm)} | {p.goal_moved_cm:.1f}"
             if p
-            else "– | – | – | – | – | –"
+            else "– | – | – | – | – | – | –"
         )
         lines.append(
             f"| {d.run} | `{d.action_mode}` | {d.demonstrations} ({_pct(d.demonstration_success)}) "
@@ -229,12 +258,18 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.diagnose", description=__doc__.split("\n")[0])
     parser.add_argument("runs", nargs="+", type=Path, help="run directories")
     parser.add_argument("--episodes", type=int, default=20, help="episodes to play each policy (default 20)")
+    parser.add_argument(
+        "--model",
+        choices=MODELS,
+        default="final",
+        help="the model to play: final (default; else newest checkpoint) or best",
+    )
     parser.add_argument("--json", type=Path, help="also write the measurements here")
     args = parser.parse_args(argv)
     if args.episodes <= 0:
         parser.error(f"--episodes must be positive, got {args.episodes}")
     try:
-        rows = [diagnose(run, args.episodes) for run in args.runs]
+        rows = [diagnose(run, args.episodes, args.model) for run in args.runs]
     except RunDirectoryError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
