@@ -8,6 +8,7 @@ import json
 
 import minari
 import pytest
+from conftest import ROOT
 
 from unified_manip.cli.main import main
 from unified_manip.datasets.catalogue import collect_all, dataset_name, plan
@@ -90,3 +91,25 @@ def test_all_plays_the_best_finished_run_under_results_for_a_task_without_a_scri
     assert entry["reason"] == (
         f"the run policy succeeded in 0 of 10 episodes of {hand}; 1 successful ones cannot be collected"
     )
+
+
+def test_a_clone_collects_handreach_from_the_committed_policy(tmp_path, monkeypatch, capsys):
+    """``results/policies/`` commits HandReach's model, so ``--all`` in a clone plays it:
+    the dataset is written from that run, with its cost, and loads back."""
+    monkeypatch.chdir(ROOT)
+    out = tmp_path / "all"
+    args = ["collect", "--all", "--env", "UnifiedManip/HandReach-v0", "--episodes", "2", "--out", str(out)]
+    assert main([*args, "--no-progress"]) == 0
+    assert "1 datasets in" in capsys.readouterr().out
+    (entry,) = json.loads((out / "catalogue.json").read_text()).values()
+    run = "results/policies/runs/HandReach-v0__native__sparse__tqc_her__s0"
+    assert (entry["name"], entry["state"], entry["source"]) == (
+        "HandReach-v0-native-v0",
+        "written",
+        f"run {run} (deterministic)",
+    )
+    assert entry["bytes"] > 0 and entry["wall_s"] > 0
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(out))
+    dataset = minari.load_dataset("HandReach-v0-native-v0")
+    assert dataset.total_episodes == 2
+    assert all(e.infos["is_success"][-1] > 0.5 for e in dataset.iterate_episodes())
