@@ -340,6 +340,9 @@ def test_committed_grids_are_valid():
     # Pilot grids (seed 0, to set a study's budget) too.
     pilots = sorted((ROOT / "baselines" / "grids" / "pilots").glob("*.yaml"))
     assert len(pilots) >= 1 and all(load_grid(path).runs for path in pilots)
+    # Grids that keep a trained policy with its model (one seed, for collect --all) too.
+    policies = sorted((ROOT / "baselines" / "grids" / "policies").glob("*.yaml"))
+    assert len(policies) >= 1 and all(load_grid(path).runs for path in policies)
 
 
 def test_the_cross_family_study_grid_names_one_dataset_per_task_and_mode():
