@@ -172,7 +172,7 @@ def _trained_entry(
     """:func:`_trained`'s entry with its cost (:func:`_timed`). A dataset already written is
     kept as recorded; a run found now replaces the ``TASK-trained-v0`` placeholder that an
     earlier call without one recorded."""
-    placeholder = f"{task_id.split('/')[-1]}-trained-v0"
+    placeholder = dataset_name(task_id, "trained")
     if run is not None:
         name = dataset_name(task_id, run[2]["action_mode"])
         done = manifest.get(name, {})
@@ -191,7 +191,7 @@ def _trained(root: Path, task_id: str, episodes: int, run: tuple | None, scripte
         return {
             "task": task_id,
             "mode": "trained",
-            "name": f"{task_id.split('/')[-1]}-trained-v0",
+            "name": dataset_name(task_id, "trained"),
             "state": "skipped",
             "reason": f"{why} collect it and no finished run with a final model under results/ "
             "(models are committed only in results/policies/)",

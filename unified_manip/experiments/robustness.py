@@ -158,7 +158,10 @@ def _cells(rows: list[dict[str, Any]]) -> tuple[dict, list[tuple[float, int]], l
 def robustness_tables(path: Path) -> dict[str, list[str]]:
     """Per task of ``robustness.csv``: Markdown lines of a table with each design's mean
     success over seeds (and the seeds' range) under each condition. Empty without the file."""
-    cells, keys, heads = _cells(read_robustness(path))
+    return _tables(*_cells(read_robustness(path)))
+
+
+def _tables(cells: dict, keys: list[tuple[float, int]], heads: list[str]) -> dict[str, list[str]]:
     tables = {}
     for task, designs in sorted(cells.items()):
         lines = ["| observation design | mode | " + " | ".join(heads) + " |", "|---|---|" + "---|" * len(heads)]
@@ -186,7 +189,7 @@ def robustness_section(path: Path, out: Path) -> list[str]:
         f"brackets. Made by `unified-manip robustness` into `{Path(path).name}`.",
         "",
     ]
-    for task, table in robustness_tables(path).items():
+    for task, table in _tables(cells, keys, heads).items():
         figure = _plot(task, cells[task], keys, heads, Path(out))
         lines += [f"**{task.split('/')[-1]}**:", "", *table, "", f"![{task} robustness]({figure.name})", ""]
     return lines
