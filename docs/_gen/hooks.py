@@ -94,6 +94,10 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         return resultpages.robustness(_experiment(args[0]), args[0], depth)
     if kind == "catalogue":
         return resultpages.catalogue_table(_experiment(args[0]))
+    if kind == "headline":
+        from unified_manip.experiments.headline import headline_table
+
+        return headline_table(_experiment(args[0]))
     if kind == "command":
         return resultpages.command(_experiment(args[0]))
     raise ValueError(f"unknown marker gen:{kind}")
@@ -111,6 +115,7 @@ MARKERS = (
     "command NAME",
     "catalogue NAME",
     "robustness NAME",
+    "headline NAME",
 )
 
 

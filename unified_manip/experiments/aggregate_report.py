@@ -106,7 +106,9 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
         "|---|---:|---|---|---:|",
     ]
     for m in order:
-        lines.append(f"| {m} | {s.final[m].size} | {_iqm(iqm[m], ci)} | {_iqm(auc[m], ci)} | {ranks[m][1]:.2f} |")
+        lines.append(
+            f"| {m} | {s.final[m].size} | {iqm_text(iqm[m], ci)} | {iqm_text(auc[m], ci)} | {ranks[m][1]:.2f} |"
+        )
     lines += [
         "",
         "Area under the success curve: each run's evaluation success averaged over the steps between its "
@@ -132,7 +134,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
         "|---|" + "---:|" * len(order),
     ]
     lines += [
-        f"| {x} | " + " | ".join("—" if x == y else _iqm(poi_ci[(x, y)], ci) for y in order) + " |" for x in order
+        f"| {x} | " + " | ".join("—" if x == y else iqm_text(poi_ci[(x, y)], ci) for y in order) + " |" for x in order
     ]
     fig = _plot_improvement(order, poi, out / f"{stem}_improvement.png", short)
     lines += ["", f"![Probability of improvement, {algo}, {reward}]({fig.name})", ""]
@@ -159,7 +161,7 @@ def _setting_lines(s: ModeScores, algo: str, reward: str, out: Path, factor: str
     return lines + [""]
 
 
-def _iqm(v: tuple[float, float, float], ci: bool = True) -> str:
+def iqm_text(v: tuple[float, float, float], ci: bool = True) -> str:
     """A value and its interval, or ``[—]`` where no interval is shown."""
     return f"{v[0]:.2f} [{v[1]:.2f}, {v[2]:.2f}]" if ci else f"{v[0]:.2f} [—]"
 
