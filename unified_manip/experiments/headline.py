@@ -93,7 +93,8 @@ def headline_table(path: Path) -> str:
         "",
         "Final success: mean [range of the seeds]. † without demonstrations (its mode's "
         "conversion kept none, or the controller cannot track them). IQM: rliable's "
-        "interquartile mean over every run of every task, with its stratified bootstrap 95% "
+        "interquartile mean over the mode's runs on every task, as many per task as its fewest "
+        "(lowest seeds first), with its stratified bootstrap 95% "
         "interval once every mode has at least two runs on each task ([—] before); – where "
         "a mode has no runs on some task yet.",
     ]
