@@ -168,6 +168,32 @@ def test_every_committed_grid_still_reads(path):
     assert load_grid(path).runs
 
 
+@pytest.mark.parametrize("path", sorted(ROOT.glob("results/*/grid.yaml")), ids=lambda p: p.parent.name)
+def test_every_committed_experiment_reads_without_its_datasets(path, tmp_path, monkeypatch):
+    """A clean clone has no demonstration datasets (data/ is not committed): the grid of an
+    experiment trained elsewhere still reads, for its report and headline."""
+    monkeypatch.chdir(tmp_path)
+    assert load_grid(path, datasets=False).runs
+
+
+def test_a_grid_naming_a_missing_dataset_is_refused_unless_its_runs_are_done(tmp_path):
+    grid = {
+        "tasks": ["UnifiedManip/Arm4PickAndPlace-v0"],
+        "action_modes": ["ee_delta"],
+        "reward_types": ["sparse"],
+        "algos": ["tqc_her"],
+        "seeds": [0],
+        "steps": 2000,
+        "overrides": {"tqc_her": [f"demonstrations={tmp_path}/none/{{task}}/{{action_mode}}-v0"]},
+    }
+    path = tmp_path / "grid.yaml"
+    path.write_text(yaml.safe_dump(grid))
+    with pytest.raises(GridError, match=r"none/Arm4PickAndPlace-v0/ee_delta-v0 is not a dataset"):
+        load_grid(path)
+    [run] = load_grid(path, datasets=False).runs
+    assert f"demonstrations={tmp_path}/none/{{task}}/{{action_mode}}-v0" in run.overrides
+
+
 # ---------------------------------------------------------------------- config.yaml and demonstrations.json
 def test_the_settings_round_trip_through_config_yaml(tmp_path):
     """What train ran with is what its config.yaml reads back as (n_envs and device: the

@@ -214,7 +214,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from unified_manip.experiments.bench import run_grid
     from unified_manip.experiments.grid import load_grid
 
-    grid = load_grid(Path(args.grid))
+    grid = load_grid(Path(args.grid), datasets=not args.collect)  # collecting reads finished runs
     out = Path(args.out) if args.out else Path("results") / grid.name
     # Ctrl-C stops the bench cleanly even when it was started with SIGINT ignored.
     signal.signal(signal.SIGINT, signal.default_int_handler)

@@ -103,8 +103,12 @@ def _cell_overrides(path: Path, entries: Any) -> list[tuple[dict[str, Any], list
     return out
 
 
-def load_grid(path: Path) -> Grid:
-    """Read and fully validate a grid file; raise :class:`GridError` on any problem."""
+def load_grid(path: Path, *, datasets: bool = True) -> Grid:
+    """Read and fully validate a grid file; raise :class:`GridError` on any problem.
+
+    ``datasets=False`` reads the grid of runs already trained (a committed experiment, a
+    bench's ``--collect``): everything is checked but that the demonstration datasets it
+    names are on this machine."""
     path = Path(path)
     if not path.is_file():
         raise GridError(f"grid file {path} not found")
@@ -188,7 +192,7 @@ def load_grid(path: Path) -> Grid:
                 run = replace(resolved.run, n_envs=n_envs[a] or resolved.run.n_envs)
                 check_her_warmup(a, resolved.algo_kwargs, run, TASKS[t].max_episode_steps)
                 check_demonstration_settings(
-                    t, m, ALGOS[a].off_policy, run, {"action_mode": m, "reward_type": r, **kwargs}
+                    t, m, ALGOS[a].off_policy, run, {"action_mode": m, "reward_type": r, **kwargs}, datasets=datasets
                 )
                 options = env_kwargs.get("controller_options")
                 EnvConfig(action_mode=m, controller_options=options).mode_config(TASKS[t].controllers)

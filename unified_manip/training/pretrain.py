@@ -40,7 +40,13 @@ def check(bc_steps: int, demonstrations: int) -> None:
 
 
 def check_settings(
-    task_id: str, action_mode: str, off_policy: bool, run: RunConfig, env_config: dict[str, Any] | None = None
+    task_id: str,
+    action_mode: str,
+    off_policy: bool,
+    run: RunConfig,
+    env_config: dict[str, Any] | None = None,
+    *,
+    datasets: bool = True,
 ) -> None:
     """Raise a ``ValueError`` unless a run with settings ``run`` can take the
     demonstrations (:func:`unified_manip.training.demonstrations.check`), the cloning it asks for
@@ -48,14 +54,16 @@ def check_settings(
     the offline steps (:func:`unified_manip.training.offline.check`):
     what ``train`` and a grid's loading both check before anything starts. Demonstrations
     from a dataset must match the run's env keyword arguments ``env_config`` (default: its
-    action mode, sparse reward; :func:`unified_manip.training.dataset_demonstrations.check`)."""
+    action mode, sparse reward; :func:`unified_manip.training.dataset_demonstrations.check`),
+    unless ``datasets`` is false: the settings of runs already trained elsewhere, read for
+    what they were, need not find their datasets on this machine."""
     from unified_manip.training.cloning_loss import check as check_cloning_loss
     from unified_manip.training.demonstrations import check as check_demonstrations
     from unified_manip.training.offline import check as check_offline
 
     episodes = run.demos.demonstrations
     check_demonstrations(task_id, action_mode, off_policy, episodes)
-    if isinstance(episodes, str):
+    if isinstance(episodes, str) and datasets:
         from unified_manip.training.dataset_demonstrations import check as check_dataset
 
         check_dataset(episodes, task_id, env_config or {"action_mode": action_mode, "reward_type": "sparse"})
