@@ -11,7 +11,7 @@ import pytest
 from unified_manip.cli import main
 from unified_manip.experiments.figures import curve_band
 from unified_manip.experiments.results import read_results
-from unified_manip.experiments.scaling import points
+from unified_manip.experiments.scaling import labelled_sizes, points
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCHES = [ROOT / "results" / name / "results.csv" for name in ("benchmark_arm", "benchmark_robosuite")]
@@ -88,3 +88,11 @@ def test_points_group_final_success_by_setting_and_demonstration_episodes():
         ("joint_delta", "sparse", "bc"): {25: [0.0]},
         ("ee_delta", "sparse", "tqc_her"): {0: [0.5]},
     }
+
+
+def test_close_dataset_sizes_share_one_tick_label():
+    """Lift's converted datasets keep 8, 10, 39, 43, 154 and 167 of 25, 100 and 400 episodes."""
+    sizes = [8, 10, 25, 39, 43, 100, 154, 167, 400]
+    assert labelled_sizes(sizes, log=True) == [8, 25, 39, 100, 154, 400]
+    assert labelled_sizes([0, 10, 25, 100, 400], log=False) == [0, 25, 100, 400]
+    assert labelled_sizes([25, 100, 400], log=True) == [25, 100, 400]

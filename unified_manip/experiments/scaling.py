@@ -39,6 +39,18 @@ def points(runs: list[dict[str, Any]]) -> dict[Line, dict[int, list[float]]]:
     return out
 
 
+def labelled_sizes(sizes: list[int], log: bool) -> list[int]:
+    """The sizes that get a tick label: each at least 1.3 times the last labelled one on a
+    log axis (or 5% of the whole span above it on a linear one), so that close sizes (a
+    mode's 39 converted episodes beside another's 43) do not print over each other."""
+    out: list[int] = []
+    span = (max(sizes) - min(sizes)) if sizes else 0
+    for n in sorted(sizes):
+        if not out or (n >= out[-1] * 1.3 if log else n - out[-1] >= 0.05 * span):
+            out.append(n)
+    return out
+
+
 def plot_against_demonstrations(
     sources: list[Path], out: Path, columns: int = 4, tasks: list[str] | None = None
 ) -> list[str]:
@@ -71,9 +83,11 @@ def plot_against_demonstrations(
         title = task.split("/")[-1]
         titles.append(title)
         ax.set_title(title, fontsize=9)
-        if 0 not in sizes:
+        log = 0 not in sizes
+        if log:
             ax.set_xscale("log")
-        ax.set_xticks(sizes, [str(n) for n in sizes])
+        ticks = labelled_sizes(sizes, log)
+        ax.set_xticks(ticks, [str(n) for n in ticks])
         ax.minorticks_off()
         ax.set_ylim(-0.02, 1.02)
         ax.tick_params(labelsize=7)
