@@ -1,8 +1,10 @@
 """The dataset commands on the command line: one-line errors with exit status 2 and
-nothing written for bad input, and Ctrl-C during collect leaves no dataset."""
+nothing written for bad input, Ctrl-C during collect leaves no dataset, and what the
+flags of collect, replay and convert do to what is written and reported."""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import signal
@@ -35,6 +37,28 @@ def run_cli(argv: list[str], capsys) -> tuple[int, str, str]:
         code = exit_.code
     captured = capsys.readouterr()
     return code, captured.out, captured.err
+
+
+def episodes(path: Path) -> list[tuple[int, bool]]:
+    """``(reset seed, success)`` of each episode of the dataset at ``path``."""
+    from unified_manip.datasets import store
+
+    dataset = store.open_dataset(path)
+    seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(dataset.episode_indices)]
+    return [(seed, bool(e.infos["is_success"][-1] > 0.5)) for seed, e in zip(seeds, dataset.iterate_episodes())]
+
+
+def metadata(path: Path) -> dict:
+    """What this project recorded about the dataset at ``path``."""
+    from unified_manip.datasets import store
+
+    return store.metadata(store.open_dataset(path))
+
+
+def table_rows(out: str) -> list[tuple[str, ...]]:
+    """The body rows of the table ``replay`` or ``convert`` printed, cell by cell (rich
+    draws the header with ``┃`` and the body with ``│``)."""
+    return [tuple(cell.strip() for cell in line.strip("│").split("│")) for line in out.splitlines() if line[:1] == "│"]
 
 
 def test_collect_writes_a_dataset_that_replays(arm_dataset, capsys):
@@ -131,6 +155,88 @@ def test_an_existing_dataset_is_kept_without_overwrite(arm_dataset, capsys):
             f"unified-manip {command[0]}: error: {arm_dataset} already exists; pass --overwrite to replace it\n",
         )
     assert (arm_dataset / "data" / "main_data.hdf5").read_bytes() == before
+
+
+def test_collect_with_overwrite_replaces_an_existing_dataset(arm_dataset, tmp_path, capsys):
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    assert episodes(copy) == [(0, True), (1, True)]
+    collect = ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--seed", "5"]
+    code, out, err = run_cli(collect + ["--out", str(copy), "--overwrite", "--no-progress"], capsys)
+    assert (code, err) == (0, "")
+    assert out == f"wrote {copy}: 1 episodes of 1 played (success rate 1.00)\n"
+    assert episodes(copy) == [(5, True)]
+    assert metadata(copy)["seed"] == 5
+    assert os.listdir(tmp_path) == ["arm-v0"]  # no temporary or replaced copy left beside it
+
+
+def test_convert_with_overwrite_replaces_an_existing_dataset(arm_dataset, tmp_path, capsys):
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    convert = ["convert", str(arm_dataset), "--action-mode", "joint_delta", "--out", str(copy), "--overwrite"]
+    code, out, err = run_cli(convert + ["--no-progress"], capsys)
+    assert (code, err) == (0, "")
+    assert out.endswith(f"wrote {copy}: 2 episodes\n")
+    assert metadata(copy)["env_kwargs"] == {"action_mode": "joint_delta", "reward_type": "sparse"}
+    assert os.listdir(tmp_path) == ["arm-v0"]
+
+
+def test_collect_only_successful_drops_the_failed_episodes_and_counts_them(tmp_path, capsys):
+    """The scripted policy translated live into ``joint_torque`` fails Arm4PickAndPlace's
+    seed 0 (45 of 50 succeed, docs/datasets.md) and succeeds on seeds 1 and 2."""
+    collect = ["collect", "--env", "UnifiedManip/Arm4PickAndPlace-v0", "--action-mode", "joint_torque"]
+    collect += ["--episodes", "2", "--no-progress"]
+    code, out, _ = run_cli(collect + ["--out", str(tmp_path / "all-v0")], capsys)
+    assert code == 0
+    assert out == f"wrote {tmp_path / 'all-v0'}: 2 episodes of 2 played (success rate 0.50)\n"
+    assert episodes(tmp_path / "all-v0") == [(0, False), (1, True)]  # without the flag the failure is kept
+
+    out_dir = tmp_path / "ok-v0"
+    code, out, _ = run_cli(
+        collect + ["--only-successful", "--out", str(out_dir), "--json", str(tmp_path / "r.json")], capsys
+    )
+    assert code == 0
+    assert out == f"wrote {out_dir}: 2 episodes of 3 played (success rate 0.67, 1 failed ones left out)\n"
+    assert episodes(out_dir) == [(1, True), (2, True)]
+    meta = metadata(out_dir)
+    assert (meta["episodes_played"], meta["dropped_episodes"], meta["only_successful"]) == (3, 1, True)
+    assert json.loads((tmp_path / "r.json").read_text()) == {
+        "out": str(out_dir),
+        "episodes": 2,
+        "played": 3,
+        "success_rate": 2 / 3,
+        "dropped": 1,
+    }
+
+
+def test_convert_keeps_the_episodes_that_fail_to_convert_only_with_keep_failed(tmp_path, capsys):
+    """Arm4Push's scripted episodes of seeds 1 and 2, tracked in ``joint_delta``: seed 1's
+    push still ends 2.3 cm from the goal (a success), seed 2's ends 7.8 cm from it."""
+    source = tmp_path / "push-v0"
+    collect = ["collect", "--env", "UnifiedManip/Arm4Push-v0", "--episodes", "2", "--seed", "1"]
+    assert main(collect + ["--out", str(source), "--no-progress"]) == 0
+    capsys.readouterr()
+    assert episodes(source) == [(1, True), (2, True)]
+    convert = ["convert", str(source), "--action-mode", "joint_delta", "--no-progress"]
+
+    code, out, err = run_cli(convert + ["--out", str(tmp_path / "without-v0")], capsys)
+    assert (code, err) == (0, "")
+    assert [row[:4] for row in table_rows(out)] == [("0", "100", "True", "True"), ("1", "100", "True", "False")]
+    assert out.endswith(f"converted success 0.50 (1/2)\nwrote {tmp_path / 'without-v0'}: 1 episodes\n")
+    assert episodes(tmp_path / "without-v0") == [(1, True)]
+    assert (
+        metadata(tmp_path / "without-v0")["dropped_episodes"],
+        metadata(tmp_path / "without-v0")["only_successful"],
+    ) == (1, True)
+
+    code, out, err = run_cli(convert + ["--keep-failed", "--out", str(tmp_path / "with-v0")], capsys)
+    assert (code, err) == (0, "")
+    assert out.endswith(f"converted success 0.50 (1/2)\nwrote {tmp_path / 'with-v0'}: 2 episodes\n")
+    assert episodes(tmp_path / "with-v0") == [(1, True), (2, False)]
+    assert (metadata(tmp_path / "with-v0")["dropped_episodes"], metadata(tmp_path / "with-v0")["only_successful"]) == (
+        0,
+        False,
+    )
 
 
 def test_convert_refuses_a_mode_without_a_shared_controller(tmp_path, capsys):
