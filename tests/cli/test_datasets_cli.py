@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 
@@ -237,6 +238,97 @@ def test_convert_keeps_the_episodes_that_fail_to_convert_only_with_keep_failed(t
         0,
         False,
     )
+
+
+def test_replay_table_gives_each_episodes_steps_deviation_departure_and_successes(arm_dataset, tmp_path, capsys):
+    """Episode 1's observation after step 17 moved by 1e-3, and episode 0's last step
+    recorded as a failure: each shows in its own row and column."""
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    with h5py.File(copy / "data" / "main_data.hdf5", "r+") as file:
+        file["episode_1/observations/observation"][17, 0] += 1e-3
+        file["episode_0/infos/is_success"][-1] = 0.0
+    code, out, err = run_cli(["replay", str(copy), "--no-progress"], capsys)
+    assert (code, err) == (1, "")
+    assert table_rows(out) == [
+        ("0", "50", "0", "-", "False", "True"),
+        ("1", "50", "0.001", "17", "True", "True"),
+    ]
+    assert out.endswith("not exact: episode 1 departed at step 17 (max deviation 0.001)\n")
+
+
+def test_replay_from_actions_names_the_step_after_a_changed_action(arm_dataset, tmp_path, capsys):
+    """Episode 1's 10th action (step index 9) changed: played from the reset, the
+    trajectory departs at the observation that action produced (step 10)."""
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    with h5py.File(copy / "data" / "main_data.hdf5", "r+") as file:
+        file["episode_1/actions"][9, 0] += 0.5
+    code, out, err = run_cli(
+        ["replay", str(copy), "--actions", "--no-progress", "--json", str(tmp_path / "r.json")], capsys
+    )
+    assert (code, err) == (1, "")
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["from_actions"] and not report["exact"]
+    first, second = report["episodes"]
+    assert (first["first_departure"], first["max_deviation"]) == (None, 0.0)
+    assert second["first_departure"] == 10 and second["max_deviation"] > 1e-3
+    assert out.endswith(f"not exact: episode 1 departed at step 10 (max deviation {second['max_deviation']:.3g})\n")
+
+
+def test_replay_from_actions_ignores_the_recorded_states(arm_dataset, tmp_path, capsys):
+    """A recorded state changed (episode 1, before step index 9): replayed from states the
+    next observation departs; from actions, which restore no state, every step is exact."""
+    copy = tmp_path / "arm-v0"
+    shutil.copytree(arm_dataset, copy)
+    with h5py.File(copy / "data" / "main_data.hdf5", "r+") as file:
+        file["episode_1/infos/state"][9, 1] += 1e-2  # the first joint's angle (the state's first entry is time)
+    code, out, _ = run_cli(["replay", str(copy), "--no-progress"], capsys)
+    assert code == 1 and "not exact: episode 1 departed at step 10 (" in out
+    code, out, _ = run_cli(["replay", str(copy), "--actions", "--no-progress"], capsys)
+    assert code == 0 and out.endswith("exact: every step replayed bit for bit\n")
+
+
+@pytest.fixture(scope="module")
+def one_episode(tmp_path_factory) -> Path:
+    """One scripted episode of Arm4Reach-v0: 50 steps, rendered at 50 fps."""
+    out = tmp_path_factory.mktemp("cli") / "one-v0"
+    collect = ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--out", str(out)]
+    assert main(collect + ["--no-progress"]) == 0
+    return out
+
+
+def test_replay_video_mp4_has_a_frame_for_the_reset_and_each_step(one_episode, tmp_path, capsys):
+    import imageio.v3 as iio
+
+    video = tmp_path / "videos" / "replay.mp4"
+    code, out, err = run_cli(["replay", str(one_episode), "--video", str(video), "--no-progress"], capsys)
+    assert (code, err) == (0, "")
+    assert out.endswith(f"exact: every step replayed bit for bit\nwrote {video}\n")
+    frames = iio.imread(video, index=None)
+    assert frames.shape == (51, 320, 320, 3)
+    assert frames.std() > 10  # a rendered scene, not a blank image
+    meta = iio.immeta(video)
+    assert (meta["codec"], meta["fps"]) == ("h264", 50.0)
+    assert os.listdir(video.parent) == ["replay.mp4"]
+
+
+def test_replay_video_gif_plays_the_episode_in_real_time(one_episode, tmp_path, capsys):
+    """51 frames (the reset and 50 steps) of 20 ms; the GIF writer merges a frame that
+    repeats the one before it into a longer one, so the frames' total time is what counts."""
+    from PIL import Image
+
+    video = tmp_path / "replay.gif"
+    code, _, err = run_cli(["replay", str(one_episode), "--video", str(video), "--no-progress"], capsys)
+    assert (code, err) == (0, "")
+    with Image.open(video) as gif:
+        assert (gif.format, gif.size, gif.info["loop"]) == ("GIF", (320, 320), 0)
+        durations = []
+        for i in range(gif.n_frames):
+            gif.seek(i)
+            durations.append(gif.info["duration"])
+    assert 40 < len(durations) <= 51
+    assert sum(durations) == 51 * 20
 
 
 def test_convert_refuses_a_mode_without_a_shared_controller(tmp_path, capsys):
