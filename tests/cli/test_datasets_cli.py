@@ -389,17 +389,46 @@ def test_ctrl_c_during_collect_leaves_no_dataset(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
-def test_collect_plays_a_trained_run_as_eval_does(tmp_path, capsys):
-    """``--policy RUN_DIR`` plays the run's model: on eval's seeds it succeeds exactly as
-    often as ``eval`` reports."""
-    import json
-
-    run = tmp_path / "run"
+@pytest.fixture(scope="module")
+def trained_run(tmp_path_factory) -> Path:
+    """A 300-step sac_her run of Arm4Reach-v0 in ee_delta, evaluated on 4 episodes from seed
+    123 (``eval.json`` beside it)."""
+    tmp = tmp_path_factory.mktemp("trained")
+    run = tmp / "run"
     sets = ["learning_starts=100", "batch_size=64", "buffer_size=10000", "eval_freq=150", "n_eval_episodes=2"]
     train = ["train", "--env", "UnifiedManip/Arm4Reach-v0", "--action-mode", "ee_delta", "--algo", "sac_her"]
     train += ["--steps", "300", "--run-dir", str(run), "--no-progress"] + [a for s in sets for a in ("--set", s)]
     assert main(train) == 0
-    assert main(["eval", str(run), "--episodes", "4", "--seed", "123", "--json", str(tmp_path / "eval.json")]) == 0
+    assert main(["eval", str(run), "--episodes", "4", "--seed", "123", "--json", str(tmp / "eval.json")]) == 0
+    return run
+
+
+def model_actions(run: Path, dataset, episode) -> np.ndarray:
+    """The actions the run's best model takes, deterministically, at ``episode``'s recorded
+    observations (loaded as ``eval`` loads it, with its observation normalisation)."""
+    import pickle
+
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from unified_manip.training.algorithms import get_algo
+
+    env = dataset.recover_environment()
+    model = get_algo("sac_her").load(run / "best" / "best_model.zip", env=DummyVecEnv([lambda: env]))  # as eval
+    stats = pickle.loads((run / "best" / "vecnormalize.pkl").read_bytes())  # sac_her normalises observations
+    return np.stack(
+        [
+            model.predict(stats.normalize_obs({k: v[t] for k, v in episode.observations.items()}), deterministic=True)[
+                0
+            ]
+            for t in range(len(episode.actions))
+        ]
+    )
+
+
+def test_collect_plays_a_trained_run_as_eval_does(trained_run, tmp_path, capsys):
+    """``--policy RUN_DIR`` plays the run's model: on eval's seeds it succeeds exactly as
+    often as ``eval`` reports."""
+    run = trained_run
     out = tmp_path / "played-v0"
     collect = ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--policy", str(run), "--episodes", "4"]
     assert main(collect + ["--seed", "123", "--out", str(out), "--no-progress"]) == 0
@@ -411,23 +440,30 @@ def test_collect_plays_a_trained_run_as_eval_does(tmp_path, capsys):
     assert meta["policy"] == "run"
     assert meta["source"] == f"run {run} (deterministic)"
     assert meta["env_kwargs"]["action_mode"] == "ee_delta"
-    assert meta["success_rate"] == json.loads((tmp_path / "eval.json").read_text())["success_rate"]
-    import pickle
-
-    from stable_baselines3.common.vec_env import DummyVecEnv
-
-    from unified_manip.training.algorithms import get_algo
-
-    env = dataset.recover_environment()
-    model = get_algo("sac_her").load(run / "best" / "best_model.zip", env=DummyVecEnv([lambda: env]))  # as eval
-    stats = pickle.loads((run / "best" / "vecnormalize.pkl").read_bytes())  # sac_her normalises observations
+    assert meta["success_rate"] == json.loads((run.parent / "eval.json").read_text())["success_rate"]
     episode = next(dataset.iterate_episodes())
-    for t, action in enumerate(episode.actions):  # every recorded action is the model's own
-        obs = stats.normalize_obs({k: v[t] for k, v in episode.observations.items()})
-        np.testing.assert_array_equal(action, model.predict(obs, deterministic=True)[0])
+    np.testing.assert_array_equal(episode.actions, model_actions(run, dataset, episode))  # the model's own
     code, _, err = run_cli(collect + ["--action-mode", "joint_delta", "--out", str(tmp_path / "x-v0")], capsys)
     assert (code, err) == (
         2,
         f"unified-manip collect: error: the run {run} was trained with action_mode 'ee_delta'; "
         "it cannot act with 'joint_delta'\n",
     )
+
+
+def test_collect_stochastic_samples_the_trained_runs_actions(trained_run, tmp_path, capsys):
+    """``--stochastic`` records actions sampled from the run's policy: none is the mean
+    action the deterministic play takes at the same observation."""
+    out = tmp_path / "sampled-v0"
+    collect = ["collect", "--env", "UnifiedManip/Arm4Reach-v0", "--policy", str(trained_run), "--episodes", "1"]
+    assert main(collect + ["--stochastic", "--out", str(out), "--no-progress"]) == 0
+    capsys.readouterr()
+    from unified_manip.datasets import store
+
+    dataset = store.open_dataset(out)
+    meta = store.metadata(dataset)
+    assert (meta["policy"], meta["source"]) == ("run", f"run {trained_run} (stochastic)")
+    episode = next(dataset.iterate_episodes())
+    mean = model_actions(trained_run, dataset, episode)
+    assert not np.any(np.all(episode.actions == mean, axis=1))  # no step took the mean action
+    assert np.all(np.abs(episode.actions) <= 1.0)  # samples squashed into the action space
