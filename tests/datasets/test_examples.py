@@ -1,6 +1,7 @@
-"""The small datasets committed under ``datasets/examples/`` (one per family with a
-scripted policy) open, are what their names say, and replay exactly from their states
-with the simulators installed here (the docs' examples use them).
+"""The small datasets committed under ``datasets/examples/`` (one per family: the scripted
+policy's where the family has one, the Shadow Hand's committed trained policy's) open,
+are what their names say, and replay exactly from their states with the simulators
+installed here (the docs' examples use them).
 
 They were recorded with generic floating point (``tests/portable.py``) and are replayed
 so: a replay from states re-runs each step's physics and controller, and on another CPU
@@ -20,11 +21,13 @@ import pytest
 from unified_manip.datasets import store
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "datasets" / "examples"
-#: name -> (task ID, episodes). The Shadow Hand has no scripted policy and no committed trained model.
+#: name -> (task ID, episodes, action mode, policy). The Shadow Hand has no scripted policy:
+#: its example is played by the trained HandReach run committed under ``results/policies/``.
 EXPECTED = {
-    "arm4-pickandplace-ee_delta-v0": ("UnifiedManip/Arm4PickAndPlace-v0", 3),
-    "fetch-pickandplace-ee_delta-v0": ("UnifiedManip/FetchPickAndPlace-v0", 2),
-    "lift-ee_delta-v0": ("UnifiedManip/Lift-v0", 2),
+    "arm4-pickandplace-ee_delta-v0": ("UnifiedManip/Arm4PickAndPlace-v0", 3, "ee_delta", "scripted"),
+    "fetch-pickandplace-ee_delta-v0": ("UnifiedManip/FetchPickAndPlace-v0", 2, "ee_delta", "scripted"),
+    "lift-ee_delta-v0": ("UnifiedManip/Lift-v0", 2, "ee_delta", "scripted"),
+    "hand-reach-native-v0": ("UnifiedManip/HandReach-v0", 2, "native", "run"),
 }
 
 
@@ -36,12 +39,12 @@ def test_the_examples_are_the_committed_ones_and_small():
 
 @pytest.mark.parametrize("name", EXPECTED)
 def test_an_example_dataset_replays_exactly_from_its_states(name, tmp_path):
-    task_id, episodes = EXPECTED[name]
+    task_id, episodes, mode, policy = EXPECTED[name]
     meta = store.metadata(store.open_dataset(EXAMPLES / name))
     assert (meta["env_id"], meta["env_kwargs"], meta["policy"]) == (
         task_id,
-        {"action_mode": "ee_delta", "reward_type": "sparse"},
-        "scripted",
+        {"action_mode": mode, "reward_type": "sparse"},
+        policy,
     )
     out = tmp_path / "replay.json"
     cmd = [
