@@ -197,7 +197,7 @@ def test_collect_only_successful_drops_the_failed_episodes_and_counts_them(tmp_p
         collect + ["--only-successful", "--out", str(out_dir), "--json", str(tmp_path / "r.json")], capsys
     )
     assert code == 0
-    assert out == f"wrote {out_dir}: 2 episodes of 3 played (success rate 0.67, 1 failed ones left out)\n"
+    assert out == f"wrote {out_dir}: 2 episodes of 3 played (success rate 0.67, 1 failed one left out)\n"
     assert episodes(out_dir) == [(1, True), (2, True)]
     meta = metadata(out_dir)
     assert (meta["episodes_played"], meta["dropped_episodes"], meta["only_successful"]) == (3, 1, True)

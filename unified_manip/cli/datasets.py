@@ -152,7 +152,7 @@ def cmd_collect(args: argparse.Namespace) -> int:
         overwrite=args.overwrite,
         progress=not args.no_progress,
     )
-    dropped = f", {result.dropped} failed ones left out" if result.dropped else ""
+    dropped = f", {result.dropped} failed {'one' if result.dropped == 1 else 'ones'} left out" if result.dropped else ""
     print(
         f"wrote {result.out}: {result.episodes} episodes of {result.played} played "
         f"(success rate {result.success_rate:.2f}{dropped})"
