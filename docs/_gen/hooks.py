@@ -94,6 +94,8 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         return resultpages.robustness(_experiment(args[0]), args[0], depth)
     if kind == "catalogue":
         return resultpages.catalogue_table(_experiment(args[0]))
+    if kind == "conversion":
+        return resultpages.conversion_tables(_experiment(args[0]))
     if kind == "headline":
         from unified_manip.experiments.headline import headline_table
 
@@ -114,6 +116,7 @@ MARKERS = (
     "figures NAME",
     "command NAME",
     "catalogue NAME",
+    "conversion NAME",
     "robustness NAME",
     "headline NAME",
 )

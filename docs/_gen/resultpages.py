@@ -137,6 +137,17 @@ def _rank(png: Path, panels: tuple[str, ...]) -> int:
     return panels.index(kind) if kind in panels else len(panels)
 
 
+def conversion_tables(path: Path) -> str:
+    """Markdown: the conversion table's ``conversion.json`` (``python -m
+    unified_manip.tools.conversion_table``), a task × mode overview, then every row."""
+    import json
+
+    from unified_manip.tools.conversion_table import markdown, overview
+
+    results = json.loads((path / "conversion.json").read_text())
+    return overview(results) + "\n\n" + markdown(results).replace("UnifiedManip/", "")
+
+
 def catalogue_table(path: Path) -> str:
     """Markdown: ``collect --all``'s ``catalogue.json`` per task (the datasets written, the
     modes skipped with their conversion success, size and time), then the whole set's totals."""

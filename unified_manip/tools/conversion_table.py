@@ -41,7 +41,8 @@ def measure(
     ``translated=False`` leaves out the live per-action translation (it doubles the time);
     ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode."""
     spec = get_task(task_id)
-    path = Path(out) / f"{spec.name}-ee_delta-v0"
+    # The version is in the name: Arm4Push-v0 and -v1 share a spec name, not their episodes.
+    path = Path(out) / f"{task_id.split('/')[-1]}-ee_delta-v0"
     start = time.perf_counter()
     if not path.exists():  # a recording of an earlier, interrupted measurement is reused
         collect(
@@ -57,6 +58,10 @@ def measure(
             progress=False,
         )
     recorded = metadata(open_dataset(path))
+    if recorded["env_id"] != task_id:
+        raise DatasetError(
+            f"{path} holds episodes of {recorded['env_id']}, not of {task_id}; remove it or pick another --out"
+        )
     row: dict[str, Any] = {"recorded": recorded, "collect_s": time.perf_counter() - start, "modes": {}}
     for mode in modes or spec.action_modes:
         start = time.perf_counter()
@@ -99,8 +104,38 @@ def _translated_successes(task_id: str, mode: str, seeds: list[int]) -> int:
         env.close()
 
 
+def overview(results: dict[str, dict[str, Any]]) -> str:
+    """Markdown: one row per task, one column per action mode (the share of recorded
+    episodes that still succeed converted; ``—`` where the mode cannot be converted into),
+    after the scripted recording's successes of the episodes it played."""
+    from unified_manip.envs.config import ACTION_MODES
+
+    modes = [m for m in ACTION_MODES if any(m in row["modes"] for row in results.values())]
+    lines = [
+        "| task | recorded: successful of played | " + " | ".join(f"`{m}`" for m in modes) + " |",
+        "|---|---:|" + "---:|" * len(modes),
+    ]
+    for task_id, row in results.items():
+        rec = row["recorded"]
+        kept = rec["episodes_played"] - rec["dropped_episodes"]
+        cells = []
+        for mode in modes:
+            m = row["modes"].get(mode)
+            cells.append("" if m is None else "—" if "error" in m else f"{m['success'] / m['episodes']:.2f}")
+        lines.append(f"| {task_id.split('/')[-1]} | {kept} of {rec['episodes_played']} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _reason(error: str, task_id: str, mode: str) -> str:
+    """Why a mode cannot be converted into, without the task and mode the row names and the
+    list of valid modes (for a table row that names them already)."""
+    reason = error.removeprefix(f"{task_id}'s action_mode {mode!r} ").split("; expected one of")[0]
+    return reason.removeprefix("is ")
+
+
 def markdown(results: dict[str, dict[str, Any]]) -> str:
-    """One row per task and mode: converted successes, mean and worst tracking error."""
+    """One row per task and mode: converted successes, mean and worst tracking error, and
+    the live translation's successes; a mode that cannot be converted into says why."""
     lines = [
         "| task | mode | converted success | tracking error, mean cm | worst step, cm | translated live |",
         "|---|---|---:|---:|---:|---:|",
@@ -108,7 +143,7 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
     for task_id, row in results.items():
         for mode, m in row["modes"].items():
             if "error" in m:
-                lines.append(f"| {task_id} | {mode} | — (no shared controller) | | | — |")
+                lines.append(f"| {task_id} | {mode} | — {_reason(m['error'], task_id, mode)} | | | — |")
                 continue
             share = m["success"] / m["episodes"]
             lines.append(
