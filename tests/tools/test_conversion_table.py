@@ -3,6 +3,8 @@ reported per task and mode, with the modes that cannot be converted into named a
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from unified_manip.datasets import DatasetError
@@ -22,7 +24,7 @@ def test_the_arm_converts_every_episode_and_fetch_refuses_its_own_controller(tmp
     assert overview(results).splitlines() == [
         "| task | recorded: successful of played | `joint_delta` | `ee_target_delta` | `native` |",
         "|---|---:|---:|---:|---:|",
-        "| Arm4Reach-v0 | 2 of 2 | 1.00 | 1.00 |  |",
+        "| Arm4Reach-v0 | 2 of 2 | 1.00 (1.00) | 1.00 (1.00) |  |",
         "| FetchReach-v0 | 2 of 2 |  |  | — |",
     ]
     refused = markdown(results).splitlines()[-1]
@@ -39,6 +41,10 @@ def test_each_version_of_a_task_is_recorded_on_its_own(tmp_path):
     assert (v0["recorded"]["env_id"], v1["recorded"]["env_id"]) == (
         "UnifiedManip/Arm4Push-v0",
         "UnifiedManip/Arm4Push-v1",
+    )
+    # Without the live translation a cell is the converted share alone.
+    assert re.fullmatch(
+        r"\| Arm4Push-v0 \| 1 of \d+ \| [01]\.\d\d \|", overview({"UnifiedManip/Arm4Push-v0": v0}).splitlines()[-1]
     )
     (tmp_path / "Arm4Push-v0-ee_delta-v0").rename(tmp_path / "Arm4Reach-v0-ee_delta-v0")
     with pytest.raises(

@@ -106,8 +106,9 @@ def _translated_successes(task_id: str, mode: str, seeds: list[int]) -> int:
 
 def overview(results: dict[str, dict[str, Any]]) -> str:
     """Markdown: one row per task, one column per action mode (the share of recorded
-    episodes that still succeed converted; ``—`` where the mode cannot be converted into),
-    after the scripted recording's successes of the episodes it played."""
+    episodes that still succeed converted, then in brackets the share that succeed with the
+    scripted policy's actions translated live; ``—`` where the mode cannot be converted
+    into), after the scripted recording's successes of the episodes it played."""
     from unified_manip.envs.config import ACTION_MODES
 
     modes = [m for m in ACTION_MODES if any(m in row["modes"] for row in results.values())]
@@ -121,9 +122,15 @@ def overview(results: dict[str, dict[str, Any]]) -> str:
         cells = []
         for mode in modes:
             m = row["modes"].get(mode)
-            cells.append("" if m is None else "—" if "error" in m else f"{m['success'] / m['episodes']:.2f}")
+            cells.append("" if m is None else "—" if "error" in m else _share(m))
         lines.append(f"| {task_id.split('/')[-1]} | {kept} of {rec['episodes_played']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def _share(m: dict[str, Any]) -> str:
+    converted = f"{m['success'] / m['episodes']:.2f}"
+    live = m.get("translated_success")
+    return converted if live is None else f"{converted} ({live / m['episodes']:.2f})"
 
 
 def _reason(error: str, task_id: str, mode: str) -> str:
