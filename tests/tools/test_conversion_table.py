@@ -3,12 +3,13 @@ reported per task and mode, with the modes that cannot be converted into named a
 
 from __future__ import annotations
 
+import json
 import re
 
 import pytest
 
 from unified_manip.datasets import DatasetError
-from unified_manip.tools.conversion_table import markdown, measure, overview
+from unified_manip.tools.conversion_table import main, markdown, measure, overview
 
 
 def test_the_arm_converts_every_episode_and_fetch_refuses_its_own_controller(tmp_path):
@@ -51,3 +52,43 @@ def test_each_version_of_a_task_is_recorded_on_its_own(tmp_path):
         DatasetError, match=r"Arm4Reach-v0-ee_delta-v0 holds episodes of UnifiedManip/Arm4Push-v0, not of "
     ):
         measure("UnifiedManip/Arm4Reach-v0", 1, tmp_path, modes=["ee_target_delta"], translated=False)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--episodes", "0"], "--episodes: expected a positive integer, got 0"),
+        (
+            ["--env", "UnifiedManip/Nope-v0"],
+            "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0",
+        ),
+        (
+            ["--modes", "ee_pose"],
+            "UnifiedManip/Arm4Reach-v0 has no action_mode 'ee_pose'; expected one of joint_torque",
+        ),
+        (["--env", "UnifiedManip/HandReach-v0"], "UnifiedManip/HandReach-v0 has no scripted policy"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, args, message):
+    base = {"--env": "UnifiedManip/Arm4Reach-v0", "--episodes": "1", "--out": str(tmp_path / "rec")}
+    base.update(dict(zip(args[::2], args[1::2])))
+    with pytest.raises(SystemExit) as exit_:
+        main([*(x for kv in base.items() for x in kv), "--json", str(tmp_path / "t.json"), "--no-progress"])
+    assert exit_.value.code == 2
+    assert message in capsys.readouterr().err.splitlines()[-1]
+    assert not (tmp_path / "t.json").exists()
+
+
+def test_the_command_reports_each_mode_and_writes_its_json_whole(tmp_path, capsys):
+    out = tmp_path / "t.json"
+    main(
+        ["--env", "UnifiedManip/Arm4Reach-v0", "--episodes", "1", "--modes", "joint_delta,ee_delta"]
+        + ["--out", str(tmp_path / "rec"), "--json", str(out), "--no-translated"]
+    )
+    captured = capsys.readouterr()
+    assert "UnifiedManip/Arm4Reach-v0 joint_delta: 1/1 converted" in captured.err
+    assert "UnifiedManip/Arm4Reach-v0 ee_delta: 1/1 converted" in captured.err
+    assert captured.out.startswith("| task | recorded: successful of played | `joint_delta` | `ee_delta` |")
+    written = json.loads(out.read_text())
+    assert list(written["UnifiedManip/Arm4Reach-v0"]["modes"]) == ["joint_delta", "ee_delta"]
+    assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []

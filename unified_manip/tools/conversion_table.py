@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -23,7 +25,7 @@ from unified_manip.datasets.convert import convert
 from unified_manip.datasets.policies import scripted
 from unified_manip.datasets.recording import collect
 from unified_manip.datasets.store import metadata, open_dataset
-from unified_manip.envs.registry import get_task
+from unified_manip.envs.registry import TASKS, get_task
 
 
 def measure(
@@ -35,11 +37,13 @@ def measure(
     translated: bool = True,
     first: int | None = None,
     on_mode=None,
+    progress: bool = False,
 ) -> dict[str, Any]:
     """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
     convert them to ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
     ``translated=False`` leaves out the live per-action translation (it doubles the time);
-    ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode."""
+    ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode;
+    ``progress`` shows the recording's and each conversion's progress bars."""
     spec = get_task(task_id)
     # The version is in the name: Arm4Push-v0 and -v1 share a spec name, not their episodes.
     path = Path(out) / f"{task_id.split('/')[-1]}-ee_delta-v0"
@@ -55,7 +59,7 @@ def measure(
             path,
             seed=seed,
             only_successful=True,
-            progress=False,
+            progress=progress,
         )
     recorded = metadata(open_dataset(path))
     if recorded["env_id"] != task_id:
@@ -66,9 +70,11 @@ def measure(
     for mode in modes or spec.action_modes:
         start = time.perf_counter()
         try:
-            report = convert(path, mode, None, progress=False, first=first)
+            report = convert(path, mode, None, progress=progress, first=first)
         except DatasetError as err:
             row["modes"][mode] = {"error": str(err)}
+            if on_mode is not None:
+                on_mode(row)
             continue
         eps = report.episodes
         seeds = [int(m["seed"]) for m in _seeds(path)]
@@ -162,7 +168,9 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m unified_manip.tools.conversion_table", description=__doc__.split("\n\n")[0]
+    )
     parser.add_argument("--env", required=True, help="comma-separated task IDs")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--out", required=True, help="directory for the recorded datasets")
@@ -170,28 +178,63 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--no-translated", action="store_true", help="leave out the live per-action translation")
     parser.add_argument("--first", type=int, help="convert only the first recorded episodes")
     parser.add_argument("--json", help="also write the results here (after every mode)")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bars or per-mode lines on stderr")
     args = parser.parse_args(argv)
+    for name in ("episodes", "first"):
+        value = getattr(args, name)
+        if value is not None and value < 1:
+            parser.error(f"--{name}: expected a positive integer, got {value}")
+    task_ids, modes = args.env.split(","), args.modes.split(",") if args.modes else None
+    try:
+        for task_id in task_ids:
+            spec = get_task(task_id)
+            if spec.scripted_policy is None:
+                scripted_ids = ", ".join(t for t in TASKS if get_task(t).scripted_policy is not None)
+                raise ValueError(f"{task_id} has no scripted policy to record; expected one of {scripted_ids}")
+            for mode in modes or []:
+                if mode not in spec.action_modes:
+                    raise ValueError(
+                        f"{task_id} has no action_mode {mode!r}; expected one of {', '.join(spec.action_modes)}"
+                    )
+    except ValueError as err:
+        parser.error(str(err))
     results: dict[str, Any] = {}
 
     def save(row: dict[str, Any]) -> None:
         results[task_id] = row
-        if args.json:
-            Path(args.json).write_text(json.dumps(results, indent=2))
+        if not args.no_progress:
+            mode, m = next(reversed(row["modes"].items()))
+            done = (
+                _reason(m["error"], task_id, mode)
+                if "error" in m
+                else f"{m['success']}/{m['episodes']} converted"
+                + (
+                    ""
+                    if m["translated_success"] is None
+                    else f", {m['translated_success']}/{m['episodes']} translated live"
+                )
+            )
+            print(f"{task_id} {mode}: {done}", file=sys.stderr, flush=True)
+        if args.json:  # whole or not at all: a reader never sees a half-written file
+            tmp = Path(f"{args.json}.tmp")
+            tmp.write_text(json.dumps(results, indent=2))
+            os.replace(tmp, args.json)
 
-    for task_id in args.env.split(","):
-        modes = args.modes.split(",") if args.modes else None
-        row = measure(
-            task_id,
-            args.episodes,
-            Path(args.out),
-            modes=modes,
-            translated=not args.no_translated,
-            first=args.first,
-            on_mode=save,
-        )
-        save(row)
-        print(markdown({task_id: row}), flush=True)
-    print(markdown(results))
+    for task_id in task_ids:
+        try:
+            results[task_id] = measure(
+                task_id,
+                args.episodes,
+                Path(args.out),
+                modes=modes,
+                translated=not args.no_translated,
+                first=args.first,
+                on_mode=save,
+                progress=not args.no_progress,
+            )
+        except ValueError as err:  # no scripted policy, or a recording of another task
+            parser.error(str(err))
+    print(overview(results) + "\n\n" + markdown(results))
 
 
 if __name__ == "__main__":
