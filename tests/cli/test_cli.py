@@ -36,6 +36,15 @@ def test_list_shows_every_id_with_modes_rewards_goal_dim_and_length():
         assert cells[5] == str(spec.max_episode_steps)
 
 
+def test_every_help_reads_as_plain_text():
+    """No reST markup (double backquotes, :class: roles) leaks into a --help page."""
+    commands = re.search(r"\{([a-z,]+)\}", run("--help").stdout).group(1).split(",")
+    assert {"train", "collect", "convert"} <= set(commands)
+    for args in [("--help",)] + [(c, "--help") for c in commands]:
+        text = run(*args).stdout
+        assert "``" not in text and not re.search(r":(class|func|mod|meth):", text), args
+
+
 def test_list_doc_prints_the_task_documentation():
     out = run("list", "--doc", "UnifiedManip/Arm4PickAndPlace-v0").stdout
     assert "Observation (34,)" in out and "Success" in out

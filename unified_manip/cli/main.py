@@ -133,7 +133,11 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = Parser(prog="unified-manip", description=__doc__)
+    parser = Parser(
+        prog="unified-manip",
+        description="Train, evaluate and compare RL baselines on goal-conditioned manipulation tasks, "
+        "and record, replay and convert their demonstrations. Each command has its own --help.",
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
 
     p = sub.add_parser("list", help="table of every registered ID")

@@ -22,13 +22,14 @@ at the same size (issue 41's target: at least 5x at 84 px).
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import time
 from typing import Any, Callable
 
 import numpy as np
+
+from unified_manip.tools.parser import ToolParser
 
 TASKS: tuple[str, ...] = (
     "UnifiedManip/Arm4PickAndPlace-v0",
@@ -140,7 +141,7 @@ def table(rows: list[dict[str, Any]]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p = ToolParser("unified_manip.tools.camera_speed", __doc__)
     p.add_argument("--tasks", nargs="+", default=list(TASKS))
     p.add_argument("--sizes", nargs="+", type=int, default=list(SIZES))
     p.add_argument("--num-envs", type=int, default=8, help="N of the vector env")

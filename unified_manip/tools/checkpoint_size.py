@@ -25,6 +25,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from unified_manip.tools.parser import ToolParser
+
 
 def _model(task: str, buffer_size: int, steps: int):
     from unified_manip.training.algorithms import get_algo
@@ -137,10 +139,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m unified_manip.tools.checkpoint_size", description=__doc__.split("\n\n")[0]
-    )
-    parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
+    parser = ToolParser("unified_manip.tools.checkpoint_size", __doc__)
     from unified_manip.envs.registry import TASKS
 
     ids = [t for t, spec in TASKS.items() if "ee_delta" in spec.action_modes]

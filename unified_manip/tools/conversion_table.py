@@ -12,7 +12,6 @@ what a run's ``demonstrations`` do today).
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
@@ -26,6 +25,7 @@ from unified_manip.datasets.policies import scripted
 from unified_manip.datasets.recording import collect
 from unified_manip.datasets.store import metadata, open_dataset
 from unified_manip.envs.registry import TASKS, get_task
+from unified_manip.tools.parser import ToolParser
 
 
 def measure(
@@ -168,9 +168,7 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(
-        prog="python -m unified_manip.tools.conversion_table", description=__doc__.split("\n\n")[0]
-    )
+    parser = ToolParser("unified_manip.tools.conversion_table", __doc__)
     parser.add_argument("--env", required=True, help="comma-separated task IDs")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--out", required=True, help="directory for the recorded datasets")

@@ -25,7 +25,6 @@ trained.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import sys
@@ -34,6 +33,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+
+from unified_manip.tools.parser import ToolParser
 
 #: Seeds of the played episodes: 123, 124, ... (``unified-manip eval``'s).
 FIRST_SEED = 123
@@ -255,7 +256,7 @@ def table(rows: list[Diagnosis]) -> str:
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.training.rundir import RunDirectoryError
 
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.diagnose", description=__doc__.split("\n")[0])
+    parser = ToolParser("unified_manip.tools.diagnose", __doc__)
     parser.add_argument("runs", nargs="+", type=Path, help="run directories")
     parser.add_argument("--episodes", type=int, default=20, help="episodes to play each policy (default 20)")
     parser.add_argument(

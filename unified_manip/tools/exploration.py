@@ -15,12 +15,13 @@ does the arm learn more slowly than Fetch" starts.
 
 from __future__ import annotations
 
-import argparse
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
+
+from unified_manip.tools.parser import ToolParser
 
 #: Task ID and action mode of each compared task (the benchmark's modes).
 DEFAULT_TASKS = (
@@ -191,9 +192,7 @@ def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m unified_manip.tools.exploration", description=__doc__.splitlines()[0]
-    )
+    parser = ToolParser("unified_manip.tools.exploration", __doc__)
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--json", help="write the results here")
     parser.add_argument(

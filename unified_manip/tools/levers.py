@@ -12,12 +12,13 @@ not from here; ``docs/training_speed.md`` puts both side by side.
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
+
+from unified_manip.tools.parser import ToolParser
 
 
 @dataclass(frozen=True)
@@ -192,7 +193,7 @@ def measure(
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.levers", description=__doc__.splitlines()[0])
+    parser = ToolParser("unified_manip.tools.levers", __doc__)
     parser.add_argument("--env", default="UnifiedManip/FetchPush-v0")
     parser.add_argument("--action-mode", default="native")
     parser.add_argument("--levers", help="comma-separated lever names (default: all)")

@@ -31,6 +31,8 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.tools.parser import ToolParser
+
 RSS_LIMIT_MB = 50.0
 STEP_TASK = "UnifiedManip/Arm4PickAndPlace-v0"
 FRAME_TASKS = ("UnifiedManip/Arm4PickAndPlace-v0", "UnifiedManip/FetchPickAndPlace-v0", "UnifiedManip/Lift-v0")
@@ -264,8 +266,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m unified_manip.tools.soak", description=__doc__.split("\n\n")[0])
-    parser.error = lambda message: parser.exit(2, f"{parser.prog}: error: {message}\n")  # one line, no usage
+    parser = ToolParser("unified_manip.tools.soak", __doc__)
     parser.add_argument("--steps", type=_positive, default=200_000, help="random steps per arm action mode")
     parser.add_argument("--frames", type=_positive, default=5_000, help="rgb_array frames per family")
     parser.add_argument("--cycles", type=_positive, default=1_000, help="make/close cycles per family")

@@ -15,7 +15,6 @@ mode, without training:
 
 from __future__ import annotations
 
-import argparse
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -23,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from unified_manip.tools.exploration import _grip_reader
+from unified_manip.tools.parser import ToolParser
 
 #: Task ID and action mode of each compared case: the arm's incremental modes, which
 #: re-target from where the arm is (``*_delta``) or from the last target (``*_target_delta``),
@@ -103,9 +103,7 @@ def measure(task_id: str, action_mode: str, axis: int = 0, episodes: int = 5, st
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="python -m unified_manip.tools.step_response", description=__doc__.splitlines()[0]
-    )
+    parser = ToolParser("unified_manip.tools.step_response", __doc__)
     parser.add_argument("--episodes", type=int, default=5)
     parser.add_argument(
         "--axes", type=int, nargs="+", default=[0, 1], help="the action dimensions stepped, one at a time (default 0 1)"

@@ -20,7 +20,6 @@ also *learns* the same is a question for full runs (``unified-manip bench``), no
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import json
 import statistics
@@ -28,6 +27,8 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Iterator
+
+from unified_manip.tools.parser import ToolParser
 
 #: The levers, each a set of switches; ``baseline`` is SB3's update as it ships.
 VARIANTS: dict[str, tuple[str, ...]] = {
@@ -169,9 +170,7 @@ def measure(
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(
-        description=__doc__.split("\n\n")[0], prog="python -m unified_manip.tools.update_speed"
-    )
+    parser = ToolParser("unified_manip.tools.update_speed", __doc__)
     parser.add_argument("--env", default="UnifiedManip/FetchPickAndPlace-v0")
     parser.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated, from " + ", ".join(VARIANTS))
     parser.add_argument("--rounds", type=int, default=5)

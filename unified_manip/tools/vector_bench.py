@@ -38,6 +38,8 @@ from typing import Any, Callable
 import gymnasium as gym
 import numpy as np
 
+from unified_manip.tools.parser import ToolParser
+
 KINDS = ("native", "native-sb3", "sync", "async", "subproc", "dummy")
 
 
@@ -237,7 +239,7 @@ def _csv(kind: Callable[[str], Any]) -> Callable[[str], list]:
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.envs.vector.pool import default_num_threads
 
-    p = argparse.ArgumentParser(prog="python -m unified_manip.tools.vector_bench", description=__doc__.split("\n\n")[0])
+    p = ToolParser("unified_manip.tools.vector_bench", __doc__)
     p.add_argument("--env", default="UnifiedManip/Arm4PickAndPlace-v0", help="task ID")
     p.add_argument(
         "--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes"
