@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import unified_manip
-from unified_manip.tools import soak
+from unified_manip.tools import gauges, soak
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -74,8 +74,8 @@ def test_soak_bad_input_is_one_line_exit_2():
 def test_gauges_see_a_live_renderer():
     env = soak._make("UnifiedManip/Arm4Reach-v0", render_mode="rgb_array", render_width=32, render_height=32)
     env.reset(seed=0)
-    before = soak.gl_contexts()
+    before = gauges.gl_contexts()
     env.render()
-    assert soak.gl_contexts() == before + 1  # the counter can fail: it sees a context while one lives
+    assert gauges.gl_contexts() == before + 1  # the counter can fail: it sees a context while one lives
     env.close()
-    assert soak.gl_contexts() == before
+    assert gauges.gl_contexts() == before

@@ -555,14 +555,14 @@ def test_hyperparameter_file_n_envs_applies_unless_the_request_sets_it(tmp_path,
 def test_torch_threads_follow_omp_num_threads_where_set(monkeypatch):
     """A user who sets OMP_NUM_THREADS=1 to train beside another run gets one torch thread
     (torch.set_num_threads would otherwise override it, and oversubscribed threads spin)."""
-    from unified_manip.training.train import _default_threads
+    from unified_manip.training.devices import default_threads
 
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
-    assert _default_threads() == 1
+    assert default_threads() == 1
     monkeypatch.setenv("OMP_NUM_THREADS", "3")
-    assert _default_threads() == 3
+    assert default_threads() == 3
     monkeypatch.delenv("OMP_NUM_THREADS")
     # Unset: up to 2, never more than the machine has, and 1 where it cannot tell.
     for cores, threads in ((16, 2), (2, 2), (1, 1), (None, 1)):
         monkeypatch.setattr(os, "cpu_count", lambda cores=cores: cores)
-        assert _default_threads() == threads
+        assert default_threads() == threads

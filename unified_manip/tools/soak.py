@@ -21,7 +21,6 @@ Memory is the resident set size (``VmRSS``), read after a garbage collection.
 from __future__ import annotations
 
 import argparse
-import gc
 import json
 import os
 import sys
@@ -31,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.tools.gauges import gl_contexts, open_fds, rss_mb, threads
 from unified_manip.tools.parser import ToolParser
 
 RSS_LIMIT_MB = 50.0
@@ -42,32 +42,6 @@ CYCLE_TASKS = (
     "UnifiedManip/HandManipulateBlock-v0",
     "UnifiedManip/Lift-v0",
 )
-
-
-# ---------------------------------------------------------------------- process gauges
-def rss_mb() -> float:
-    gc.collect()
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024
-    raise RuntimeError("no VmRSS in /proc/self/status")
-
-
-def open_fds() -> int:
-    return len(os.listdir("/proc/self/fd"))
-
-
-def threads() -> int:
-    return len(os.listdir("/proc/self/task"))
-
-
-def gl_contexts() -> int:
-    """Live MuJoCo GL contexts (``mujoco.egl`` / ``glfw`` / ``osmesa`` ``GLContext``)."""
-    gc.collect()
-    return sum(
-        1 for o in gc.get_objects() if type(o).__name__ == "GLContext" and type(o).__module__.startswith("mujoco")
-    )
 
 
 def _make(task: str, mode: str | None = None, **kwargs):

@@ -1,6 +1,8 @@
-"""Which torch device a run trains on: ``auto``, ``cpu`` or ``cuda``."""
+"""Which torch device a run trains on (``auto``, ``cpu`` or ``cuda``), and with how many CPU threads."""
 
 from __future__ import annotations
+
+import os
 
 DEVICES = ("auto", "cpu", "cuda")
 
@@ -25,3 +27,12 @@ def resolve_device(name: str) -> str:
     if name == "auto":
         return "cuda" if available else "cpu"
     return name
+
+
+def default_threads() -> int:
+    """OMP_NUM_THREADS where the user set it (torch.set_num_threads would override it),
+    else up to 2."""
+    try:
+        return max(1, int(os.environ["OMP_NUM_THREADS"]))
+    except (KeyError, ValueError):
+        return max(1, min(2, os.cpu_count() or 1))

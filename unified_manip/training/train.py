@@ -11,7 +11,6 @@ run directory: a second is refused. What a run directory holds is
 
 from __future__ import annotations
 
-import os
 import signal
 import time
 from dataclasses import replace
@@ -24,7 +23,7 @@ from unified_manip.envs.registry import get_task
 from unified_manip.training import checkpoints, rundir, speedups
 from unified_manip.training.algorithms import get_algo
 from unified_manip.training.demonstration_levers import demonstrate, keep_cloning, learn_offline_on_demonstrations
-from unified_manip.training.devices import DeviceError, resolve_device
+from unified_manip.training.devices import DeviceError, default_threads, resolve_device
 from unified_manip.training.evaluation import EvalResult, evaluate, write_video
 from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.request import TrainError, TrainRequest
@@ -153,7 +152,7 @@ def _train_owned(
     if not (run_dir / CONFIG).is_file():
         write_atomic(run_dir / CONFIG, yaml.safe_dump(config, sort_keys=False))
 
-    torch.set_num_threads(threads or _default_threads())
+    torch.set_num_threads(threads or default_threads())
     candidates = checkpoints.published(run_dir)
     if not candidates:  # starting (again) from step 0: logs of an aborted attempt would mislead
         for sub in ("monitor", "eval", "best", "tb"):
@@ -284,15 +283,6 @@ def _check_buffer(env, algo_kwargs: dict[str, Any], her: bool) -> None:
     except ValueError as err:
         env.close()
         raise TrainError(str(err)) from None
-
-
-def _default_threads() -> int:
-    """OMP_NUM_THREADS where the user set it (torch.set_num_threads would override it),
-    else up to 2."""
-    try:
-        return max(1, int(os.environ["OMP_NUM_THREADS"]))
-    except (KeyError, ValueError):
-        return max(1, min(2, os.cpu_count() or 1))
 
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
