@@ -210,6 +210,11 @@ def test_bad_input():
     bad[2, 1], bad[1, 0] = 0.0, np.inf
     with pytest.raises(ValueError, match=r"action of env 1 must be finite"):
         env.step(bad)
+    with pytest.raises(ValueError, match=r"a list of num_envs=3 seeds, got 2 seeds"):
+        env.reset(seed=[0, 1])
+    for mask in ([True, False, True], np.zeros(3, dtype=bool), np.ones(2, dtype=bool), np.ones(3, dtype=int)):
+        with pytest.raises(ValueError, match=r"reset_mask'\] must be a bool array of shape \(3,\) with a True"):
+            env.reset(options={"reset_mask": mask})
     env.close()
     for n in (0, -1, 1.5, True):
         with pytest.raises(ValueError, match=r"num_envs must be a positive int"):

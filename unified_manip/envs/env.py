@@ -10,7 +10,7 @@ from gymnasium import spaces
 from gymnasium_robotics.core import GoalEnv
 
 from unified_manip.envs.cameras import image_sensor, observation_box
-from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.controllers.actions import checked_actions, squared_norm
 from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
@@ -131,7 +131,7 @@ class UnifiedManipEnv(GoalEnv):
             "grip_to_object": grip_to_object,
             "grasped": grasped,
             "dropped": float(self._was_grasped > 0.5 and grasped < 0.5),
-            "action_sq": float(action @ action),
+            "action_sq": squared_norm(action),
             "sim_unstable": unstable,
             **diagnostics,
             **self._backend.extra_info(),

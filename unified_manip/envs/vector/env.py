@@ -20,12 +20,13 @@ from gymnasium.vector.utils import batch_space
 
 from unified_manip.envs.cameras import ImageSensor, image_sensor, observation_box
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.controllers.actions import checked_actions
+from unified_manip.envs.controllers.actions import checked_actions, squared_norms
 from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import INFO_KEYS, info_arrays
 from unified_manip.envs.vector import infos as vinfo
 from unified_manip.envs.vector.batched import BatchedBackend
+from unified_manip.envs.vector.resets import env_seeds, reset_mask
 
 
 class NativeVectorEnv(VectorEnv):
@@ -102,21 +103,8 @@ class NativeVectorEnv(VectorEnv):
         """Reset every env, or those in ``options["reset_mask"]``; env ``i`` is seeded
         with ``seed + i`` (an int), ``seed[i]`` (a list) or not at all (None)."""
         n = self.num_envs
-        if seed is None:
-            seeds: list[int | None] = [None] * n
-        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-            seeds = [int(seed) + i for i in range(n)]
-        else:
-            seeds = list(seed)  # type: ignore[arg-type]  # a sequence here (bools are ints)
-            if len(seeds) != n:
-                raise ValueError(f"seed must be None, an int or a list of num_envs={n} seeds, got {len(seeds)} seeds")
-        mask = np.ones(n, dtype=bool)
-        if options is not None and "reset_mask" in options:
-            mask = options["reset_mask"]
-            if not isinstance(mask, np.ndarray) or mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
-                raise ValueError(
-                    f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}"
-                )
+        seeds = env_seeds(seed, n)
+        mask = reset_mask(options, n)
         extra: dict[str, Any] = {}
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
@@ -166,7 +154,7 @@ class NativeVectorEnv(VectorEnv):
             "grip_to_object": step_g2o,
             "grasped": step_grasped,
             "dropped": ((self._was_grasped > 0.5) & (step_grasped < 0.5)).astype(np.float64),
-            "action_sq": (a[:, None, :] @ a[:, :, None])[:, 0, 0],  # == a_i @ a_i, bit for bit
+            "action_sq": squared_norms(a),
         }
         # Same dtype path as compute_reward (and the single env), so they agree bit for bit.
         distance = self.task.goal_distance(
