@@ -294,17 +294,17 @@ def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
 
 
 def test_a_retried_run_waits_for_a_live_attempt_and_never_writes_beside_it(tmp_path, monkeypatch):
-    from unified_manip.experiments import bench
+    from unified_manip.experiments import executors
     from unified_manip.training.runlock import DirectoryLock
     from unified_manip.training.train import TrainError
 
     spec = load_grid(_write(tmp_path / "grid.yaml", GRID)).runs[0]
     run_dir = tmp_path / "out" / "runs" / spec.name
-    monkeypatch.setattr(bench, "RUN_LOCK_WAIT_S", 1.0)
+    monkeypatch.setattr(executors, "RUN_LOCK_WAIT_S", 1.0)
     with DirectoryLock(run_dir):  # the earlier attempt, alive on another worker
         start = time.monotonic()
         with pytest.raises(TrainError, match=f"run directory {re.escape(str(run_dir))} is in use by pid {os.getpid()}"):
-            bench.run_one(spec, str(tmp_path / "out"))
+            executors.run_one(spec, str(tmp_path / "out"))
         assert time.monotonic() - start >= 1.0  # it waited before giving up
     assert [p.name for p in run_dir.iterdir()] == [".lock"]  # and wrote nothing
 
