@@ -25,6 +25,7 @@ from unified_manip.experiments.report import build_report
 from unified_manip.experiments.results import read_results, write_results
 from unified_manip.experiments.sanity import dense_reward_check
 from unified_manip.training.hyperparams import resolve_run
+from unified_manip.training.runlock import DirectoryLock
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -177,6 +178,50 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
     for r in rows:
         steps, success = read_scalars(out / "runs" / r["run"])["rollout/success_rate"]
         assert steps[-1] == 200 and (np.diff(steps) > 0).all() and ((success >= 0) & (success <= 1)).all()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "sig", [signal.SIGTERM, signal.SIGINT, signal.SIGHUP, signal.SIGKILL], ids=["term", "int", "hangup", "kill"]
+)
+def test_a_signal_to_the_bench_alone_checkpoints_and_stops_its_run_in_progress(sig, tmp_path):
+    """What a scheduler or a ``kill PID`` sends reaches the bench's pid only, not its workers."""
+    grid_path = write_grid(tmp_path, dict(TINY_GRID, action_modes=["ee_delta"], seeds=[0], steps=50_000))
+    out = tmp_path / "out"
+    run_dir = out / "runs" / load_grid(grid_path).runs[0].name
+    cmd = [sys.executable, "-m", "unified_manip.cli", "bench", str(grid_path), "--out", str(out), "--workers", "1"]
+    proc = subprocess.Popen(
+        cmd + ["--no-progress"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL),  # not nohup's SIG_IGN
+    )
+    deadline = time.time() + 300
+    while _steps(run_dir) < 100:  # the first checkpoint: the run is learning
+        assert proc.poll() is None and time.time() < deadline, proc.communicate()
+        time.sleep(0.2)
+    os.kill(proc.pid, sig)
+    out_text, err_text = proc.communicate(timeout=300)  # its pipes close when the worker ends too
+    if sig == signal.SIGKILL:
+        assert proc.returncode == -signal.SIGKILL
+    else:
+        assert proc.returncode == 128 + sig, err_text
+        assert b"bench interrupted; run the same command again to resume" in out_text
+        assert b"Traceback" not in err_text
+    assert b"stopping at the next rollout boundary" in err_text  # the worker heard, once
+    DirectoryLock(run_dir).acquire(wait_s=10).release()  # and let go of the run
+    status = json.loads((run_dir / "status.json").read_text())
+    assert status["state"] == "running" and 100 <= status["num_timesteps"] < 50_000
+    assert (run_dir / "checkpoints" / f"{status['num_timesteps']:012d}").is_dir()  # whole, where it stopped
+
+
+def _steps(run_dir: Path) -> int:
+    try:
+        return json.loads((run_dir / "status.json").read_text())["num_timesteps"]
+    except (FileNotFoundError, json.JSONDecodeError):
+        return 0
 
 
 def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeats(tmp_path):

@@ -216,8 +216,18 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
     grid = load_grid(Path(args.grid), datasets=not args.collect)  # collecting reads finished runs
     out = Path(args.out) if args.out else Path("results") / grid.name
-    # Ctrl-C stops the bench cleanly even when it was started with SIGINT ignored.
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    # Ctrl-C, `kill` and a hang-up stop the bench cleanly (its runs checkpoint and stop),
+    # Ctrl-C even when the bench was started with SIGINT ignored; a hang-up stays ignored
+    # under nohup.
+    stops: list[int] = []
+
+    def stop(signum, frame):
+        stops.append(signum)
+        raise KeyboardInterrupt
+
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        if sig != signal.SIGHUP or signal.getsignal(sig) is signal.SIG_DFL:
+            signal.signal(sig, stop)
     try:
         summary = run_grid(
             grid,
@@ -235,7 +245,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         # Runs in progress wrote a checkpoint on the way out; finished runs are in results.
         print(f"bench interrupted; run the same command again to resume (finished runs are kept in {out})")
-        return 130
+        return 128 + (stops[0] if stops else signal.SIGINT)
     print(
         f"{summary['finished']}/{summary['runs']} runs finished, {len(summary['failed'])} failed; "
         f"results in {summary['results']}"

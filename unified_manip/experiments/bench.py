@@ -176,6 +176,9 @@ def _run_owned(
         raise GridError(f"unknown executor {executor!r}; expected 'local' or 'ray'")
     try:
         _schedule(runner, todo, workers, (str(out_dir), 1, device), done, postfix)
+    except KeyboardInterrupt:
+        runner.interrupt()
+        raise
     finally:
         runner.close()
     postfix(0)

@@ -7,12 +7,18 @@ its error; :func:`unified_manip.experiments.bench.run_grid` schedules and record
 
 from __future__ import annotations
 
+import os
+import sys
 import traceback
 from pathlib import Path
 from typing import Any
 
 from unified_manip.experiments.grid import RunSpec
 from unified_manip.experiments.results import collect_row
+
+#: Linux: pool workers leave the bench's process group and are stopped with it
+#: (see :func:`_worker_init`); elsewhere they share its group, and so its Ctrl-C.
+OWN_GROUP = sys.platform.startswith("linux")
 
 #: How long a run waits for its directory when another process still owns it (an
 #: earlier attempt on a Ray node that has not noticed it was given up on, or a stray
@@ -53,11 +59,11 @@ class LocalExecutor:
         from concurrent.futures import ProcessPoolExecutor
 
         self.pool = ProcessPoolExecutor(
-            max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint
+            max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init
         )
 
     def submit(self, *args):
-        return self.pool.submit(run_one, *args)
+        return self.pool.submit(_run_in_worker, *args)
 
     def wait(self, handles: list) -> list:
         from concurrent.futures import FIRST_COMPLETED, wait
@@ -69,6 +75,26 @@ class LocalExecutor:
 
     def describe(self, err: Exception) -> str:
         return "".join(traceback.format_exception_only(type(err), err)).strip()
+
+    def interrupt(self) -> None:
+        """Pass a stop on to the runs in progress and wait while they checkpoint and stop.
+
+        With :data:`OWN_GROUP` the workers hear of a stop only from here, once per
+        interrupt of the bench: Ctrl-C, ``kill`` of the bench's pid or a hang-up. An
+        interrupt while they stop is passed on too, and they then stop at once, resuming
+        later from their last periodic checkpoint."""
+        import multiprocessing
+        import signal
+
+        while True:
+            if OWN_GROUP:
+                for child in multiprocessing.active_children():
+                    os.kill(child.pid, signal.SIGINT)  # an idle worker ignores it
+            try:
+                self.pool.shutdown(cancel_futures=True)
+                return
+            except KeyboardInterrupt:
+                continue
 
     def close(self) -> None:
         self.pool.shutdown(cancel_futures=True)
@@ -98,13 +124,54 @@ class RayExecutor:
         cause = getattr(err, "cause", None) or err
         return f"{type(cause).__name__}: {cause}".splitlines()[0]
 
+    def interrupt(self) -> None:
+        pass
+
     def close(self) -> None:
         pass
 
 
-def _ignore_sigint() -> None:
-    """Idle pool workers ignore Ctrl-C (the bench handles it); ``train`` turns it back on
-    while a run learns, so a running run still checkpoints and stops."""
+#: The bench's pid, in a pool worker (see :func:`_worker_init`).
+_bench_pid: int | None = None
+
+
+def _worker_init() -> None:
+    """Set up a pool worker: idle, it ignores SIGINT; ``train`` handles it while a run
+    learns, so a running run checkpoints and stops.
+
+    With :data:`OWN_GROUP` the worker leaves the bench's process group, so a stop reaches
+    it once, passed on by :meth:`LocalExecutor.interrupt`, and it is sent SIGINT when the
+    bench dies (``PR_SET_PDEATHSIG``): a bench killed outright leaves its runs
+    checkpointed and stopped, and its workers gone, not training on with no one to
+    record them."""
+    import ctypes
     import signal
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    global _bench_pid
+    _bench_pid = os.getppid()
+    signal.signal(signal.SIGINT, _idle_sigint)
+    if OWN_GROUP:
+        pr_set_pdeathsig = 1
+        if ctypes.CDLL(None, use_errno=True).prctl(pr_set_pdeathsig, int(signal.SIGINT), 0, 0, 0) != 0:
+            raise OSError(ctypes.get_errno(), "prctl(PR_SET_PDEATHSIG) failed")
+        os.setpgrp()
+        _exit_if_orphaned()  # the bench died before the prctl
+
+
+def _idle_sigint(signum, frame) -> None:
+    """SIGINT between runs: ignored, unless the bench has died (then the worker ends)."""
+    _exit_if_orphaned()
+
+
+def _exit_if_orphaned() -> None:
+    if os.getppid() != _bench_pid:
+        os._exit(1)  # no one is left to hand a run to it or to read its results
+
+
+def _run_in_worker(spec: RunSpec, *args) -> dict[str, Any]:
+    """:func:`run_one` in a pool worker, which ends after the run if the bench has died."""
+    _exit_if_orphaned()
+    try:
+        return run_one(spec, *args)
+    finally:
+        _exit_if_orphaned()
