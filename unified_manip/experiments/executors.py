@@ -104,20 +104,31 @@ class RayExecutor:
     """Runs as Ray tasks of one CPU each, on the cluster at ``address`` (or a local Ray)."""
 
     def __init__(self, address: str | None):
+        import signal
+
         import ray
 
         if not ray.is_initialized():
+            # ray.init puts its own SIGTERM handler (exit at once) in place of the
+            # bench's clean stop; the bench's handlers are put back.
+            kept = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
             ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+            for sig, handler in kept.items():
+                signal.signal(sig, handler)
         self.ray = ray
         self.remote = ray.remote(num_cpus=1, max_retries=0)(run_one)
+        self.live: set = set()  # submitted and not yet handed back
 
     def submit(self, *args):
-        return self.remote.remote(*args)
+        ref = self.remote.remote(*args)
+        self.live.add(ref)
+        return ref
 
     def wait(self, handles: list) -> list:
         return self.ray.wait(handles, num_returns=1)[0]
 
     def result(self, handle) -> dict[str, Any]:
+        self.live.discard(handle)
         return self.ray.get(handle)
 
     def describe(self, err: Exception) -> str:
@@ -125,7 +136,21 @@ class RayExecutor:
         return f"{type(cause).__name__}: {cause}".splitlines()[0]
 
     def interrupt(self) -> None:
-        pass
+        """Pass a stop on to the runs in progress and wait while they checkpoint and stop.
+
+        ``ray.cancel`` interrupts a running task's main thread as SIGINT would, so
+        ``train`` checkpoints and stops; a queued task never starts. An interrupt while
+        they stop cancels them with ``force``, which ends their workers at once: those
+        runs resume later from their last periodic checkpoint."""
+        force = False
+        while self.live:
+            for ref in self.live:
+                self.ray.cancel(ref, force=force)
+            try:
+                self.ray.wait(list(self.live), num_returns=len(self.live))
+                self.live.clear()
+            except KeyboardInterrupt:
+                force = True
 
     def close(self) -> None:
         pass
