@@ -178,3 +178,35 @@ def test_the_readme_benchmark_table_equals_the_committed_results():
         values = finals[key]
         assert len(values) == int(row["seeds"]), (key, values)
         assert row["final success"] == f"{np.mean(values):.2f} [{min(values):.2f}, {max(values):.2f}]", (key, values)
+
+
+def test_the_readme_observation_table_equals_the_committed_results():
+    """Every row of the README's observation-design table: final success from
+    ``results.csv``, and the same policies under 1 cm of noise and a one-step delay from
+    ``robustness.csv``, each as the seeds' mean and range."""
+    import csv
+    from collections import defaultdict
+
+    from unified_manip.experiments.results import read_results
+
+    study = ROOT / "results" / "observation_designs"
+    task = "UnifiedManip/Arm4PickAndPlace-v0"
+    values: dict[tuple[str, str], list[float]] = defaultdict(list)
+    for r in read_results(study / "results.csv"):
+        if r["task"] == task:
+            values[(r["observation"], "final success")].append(r["final_success_rate"])
+    for r in csv.DictReader((study / "robustness.csv").open()):
+        if r["task"] != task:
+            continue
+        column = {("0.01", "0"): "under 1 cm of noise", ("0.0", "1"): "1-step delay"}.get((r["noise"], r["delay"]))
+        if column:
+            values[(r["observation"], column)].append(float(r["success_rate"]))
+    text = (ROOT / "README.md").read_text().split("## Observation designs", 1)[1].split("\n## ", 1)[0]
+    rows = _table_rows(text)
+    assert len(rows) == 5
+    for row in rows:
+        design = row["design (Arm4PickAndPlace-v0)"].strip("`")
+        for column in ("final success", "under 1 cm of noise", "1-step delay"):
+            v = values[(design, column)]
+            assert len(v) == 3, (design, column, v)
+            assert row[column] == f"{np.mean(v):.2f} [{min(v):.2f}, {max(v):.2f}]", (design, column, v)
