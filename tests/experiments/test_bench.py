@@ -116,6 +116,22 @@ def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
 
 
 @pytest.mark.slow
+def test_a_ray_address_that_cannot_be_used_is_refused_in_one_line(tmp_path):
+    grid = str(write_grid(tmp_path, TINY_GRID))
+    bad = cli("bench", grid, "--out", str(tmp_path / "out"), "--executor", "ray", "--address", "nohost")
+    assert bad.returncode == 2 and bad.stderr.strip().splitlines()[-1] == (
+        "unified-manip bench: error: Ray did not start at --address nohost: Invalid address format: nohost"
+    ), bad.stderr
+    assert "Traceback" not in bad.stderr
+    assert not (tmp_path / "out" / "command.txt").exists()  # the directory is left as it was
+    local = cli("bench", grid, "--out", str(tmp_path / "out"), "--address", "10.0.0.1:6379")
+    assert local.returncode == 2 and local.stderr.strip() == (
+        "unified-manip bench: error: --address names a Ray cluster, for --executor ray; "
+        "this bench's executor is 'local'"
+    )
+
+
+@pytest.mark.slow
 def test_a_crashing_run_is_recorded_retried_and_does_not_block_the_grid(tmp_path):
     doc = dict(TINY_GRID, seeds=[0])
     grid = load_grid(write_grid(tmp_path, doc))

@@ -92,6 +92,10 @@ def run_grid(
 
     Raises :class:`~unified_manip.training.runlock.DirectoryInUse` if another bench owns ``out_dir``.
     """
+    if executor not in ("local", "ray"):
+        raise GridError(f"unknown executor {executor!r}; expected 'local' or 'ray'")
+    if address and executor != "ray":
+        raise GridError(f"--address names a Ray cluster, for --executor ray; this bench's executor is {executor!r}")
     if collect and select:
         raise GridError("--only chooses runs to train and --collect trains none; give one or the other")
     if device is not None:
@@ -131,15 +135,18 @@ def _run_owned(
     device: str | None,
     chosen: set[str] | None = None,
 ) -> dict[str, Any]:
+    rows = {r["run"]: r for r in (collect_row(out_dir / "runs" / s.name) for s in grid.runs) if r}
+    todo = [s for s in grid.runs if s.name not in rows and (chosen is None or s.name in chosen)]
+    workers = workers or max(1, os.cpu_count() or 1)
+    # Started before anything is written: an executor that cannot start leaves the
+    # directory as it was.
+    runner = (LocalExecutor(workers) if executor == "local" else RayExecutor(address)) if todo else None
     (out_dir / "grid.yaml").write_text(yaml.safe_dump(grid.source, sort_keys=False))
     if command:
         (out_dir / "command.txt").write_text(command + "\n")
-    rows = {r["run"]: r for r in (collect_row(out_dir / "runs" / s.name) for s in grid.runs) if r}
-    todo = [s for s in grid.runs if s.name not in rows and (chosen is None or s.name in chosen)]
     failures: dict[str, str] = {}
     attempts = {s.name: 0 for s in todo}
     write_results(out_dir, list(rows.values()))
-    workers = workers or max(1, os.cpu_count() or 1)
 
     from tqdm import tqdm
 
@@ -168,19 +175,14 @@ def _run_owned(
     def postfix(running: int) -> None:
         bar.set_postfix(running=running, failed=len(failures), refresh=True)
 
-    if executor == "local":
-        runner = LocalExecutor(workers)
-    elif executor == "ray":
-        runner = RayExecutor(address)
-    else:
-        raise GridError(f"unknown executor {executor!r}; expected 'local' or 'ray'")
-    try:
-        _schedule(runner, todo, workers, (str(out_dir), 1, device), done, postfix)
-    except KeyboardInterrupt:
-        runner.interrupt()
-        raise
-    finally:
-        runner.close()
+    if runner is not None:
+        try:
+            _schedule(runner, todo, workers, (str(out_dir), 1, device), done, postfix)
+        except KeyboardInterrupt:
+            runner.interrupt()
+            raise
+        finally:
+            runner.close()
     postfix(0)
     bar.close()
     return {

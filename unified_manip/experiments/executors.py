@@ -13,7 +13,7 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-from unified_manip.experiments.grid import RunSpec
+from unified_manip.experiments.grid import GridError, RunSpec
 from unified_manip.experiments.results import collect_row
 
 #: Linux: pool workers leave the bench's process group and are stopped with it
@@ -112,7 +112,12 @@ class RayExecutor:
             # ray.init puts its own SIGTERM handler (exit at once) in place of the
             # bench's clean stop; the bench's handlers are put back.
             kept = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
-            ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+            try:
+                ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
+            except Exception as err:  # a malformed or unreachable address, a node that does not start
+                where = f"at --address {address}" if address else "on this machine"
+                reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+                raise GridError(f"Ray did not start {where}: {reason}") from None
             for sig, handler in kept.items():
                 signal.signal(sig, handler)
         self.ray = ray
