@@ -184,10 +184,10 @@ def test_the_readme_observation_table_equals_the_committed_results():
     """Every row of the README's observation-design table: final success from
     ``results.csv``, and the same policies under 1 cm of noise and a one-step delay from
     ``robustness.csv``, each as the seeds' mean and range."""
-    import csv
     from collections import defaultdict
 
     from unified_manip.experiments.results import read_results
+    from unified_manip.experiments.robustness import read_robustness
 
     study = ROOT / "results" / "observation_designs"
     task = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -195,12 +195,10 @@ def test_the_readme_observation_table_equals_the_committed_results():
     for r in read_results(study / "results.csv"):
         if r["task"] == task:
             values[(r["observation"], "final success")].append(r["final_success_rate"])
-    for r in csv.DictReader((study / "robustness.csv").open()):
-        if r["task"] != task:
-            continue
-        column = {("0.01", "0"): "under 1 cm of noise", ("0.0", "1"): "1-step delay"}.get((r["noise"], r["delay"]))
-        if column:
-            values[(r["observation"], column)].append(float(r["success_rate"]))
+    for r in read_robustness(study / "robustness.csv"):
+        column = {(0.01, 0): "under 1 cm of noise", (0.0, 1): "1-step delay"}.get((r["noise"], r["delay"]))
+        if r["task"] == task and column:
+            values[(r["observation"], column)].append(r["success_rate"])
     text = (ROOT / "README.md").read_text().split("## Observation designs", 1)[1].split("\n## ", 1)[0]
     rows = _table_rows(text)
     assert len(rows) == 5

@@ -53,19 +53,23 @@ def _schedule(executor, todo: list[RunSpec], workers: int, args: tuple, done, po
     end of the queue); a crashed run never stops the grid."""
     queue = list(todo)
     pending: dict[Any, RunSpec] = {}
-    while queue or pending:
-        while queue and len(pending) < workers:
-            spec = queue.pop(0)
-            pending[executor.submit(spec, *args)] = spec
-        postfix(len(pending))
-        for handle in executor.wait(list(pending)):
-            spec = pending.pop(handle)
-            try:
-                retry = done(spec, executor.result(handle), None)
-            except Exception as err:  # a crashed run must not stop the grid
-                retry = done(spec, None, executor.describe(err))
-            if retry:
-                queue.append(spec)
+    try:
+        while queue or pending:
+            while queue and len(pending) < workers:
+                spec = queue.pop(0)
+                pending[executor.submit(spec, *args)] = spec
+            postfix(len(pending))
+            for handle in executor.wait(list(pending)):
+                spec = pending.pop(handle)
+                try:
+                    retry = done(spec, executor.result(handle), None)
+                except Exception as err:  # a crashed run must not stop the grid
+                    retry = done(spec, None, executor.describe(err))
+                if retry:
+                    queue.append(spec)
+    except KeyboardInterrupt:
+        executor.interrupt(list(pending))  # the runs in progress checkpoint and stop
+        raise
 
 
 def run_grid(
@@ -178,9 +182,6 @@ def _run_owned(
     if runner is not None:
         try:
             _schedule(runner, todo, workers, (str(out_dir), 1, device), done, postfix)
-        except KeyboardInterrupt:
-            runner.interrupt()
-            raise
         finally:
             runner.close()
     postfix(0)

@@ -76,8 +76,9 @@ class LocalExecutor:
     def describe(self, err: Exception) -> str:
         return "".join(traceback.format_exception_only(type(err), err)).strip()
 
-    def interrupt(self) -> None:
-        """Pass a stop on to the runs in progress and wait while they checkpoint and stop.
+    def interrupt(self, handles: list) -> None:
+        """Pass a stop on to the runs in progress and wait while they checkpoint and stop
+        (the pool knows its own; ``handles`` is for executors that do not).
 
         With :data:`OWN_GROUP` the workers hear of a stop only from here, once per
         interrupt of the bench: Ctrl-C, ``kill`` of the bench's pid or a hang-up. An
@@ -116,44 +117,41 @@ class RayExecutor:
                 ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False)
             except Exception as err:  # a malformed or unreachable address, a node that does not start
                 where = f"at --address {address}" if address else "on this machine"
-                reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+                reason = (str(err).strip() or type(err).__name__).splitlines()[0]
                 raise GridError(f"Ray did not start {where}: {reason}") from None
             for sig, handler in kept.items():
                 signal.signal(sig, handler)
         self.ray = ray
         self.remote = ray.remote(num_cpus=1, max_retries=0)(run_one)
-        self.live: set = set()  # submitted and not yet handed back
 
     def submit(self, *args):
-        ref = self.remote.remote(*args)
-        self.live.add(ref)
-        return ref
+        return self.remote.remote(*args)
 
     def wait(self, handles: list) -> list:
         return self.ray.wait(handles, num_returns=1)[0]
 
     def result(self, handle) -> dict[str, Any]:
-        self.live.discard(handle)
         return self.ray.get(handle)
 
     def describe(self, err: Exception) -> str:
         cause = getattr(err, "cause", None) or err
         return f"{type(cause).__name__}: {cause}".splitlines()[0]
 
-    def interrupt(self) -> None:
-        """Pass a stop on to the runs in progress and wait while they checkpoint and stop.
+    def interrupt(self, handles: list) -> None:
+        """Pass a stop on to the runs in progress (``handles``) and wait while they
+        checkpoint and stop.
 
         ``ray.cancel`` interrupts a running task's main thread as SIGINT would, so
         ``train`` checkpoints and stops; a queued task never starts. An interrupt while
         they stop cancels them with ``force``, which ends their workers at once: those
         runs resume later from their last periodic checkpoint."""
         force = False
-        while self.live:
-            for ref in self.live:
+        while True:
+            for ref in handles:
                 self.ray.cancel(ref, force=force)
             try:
-                self.ray.wait(list(self.live), num_returns=len(self.live))
-                self.live.clear()
+                self.ray.wait(handles, num_returns=len(handles))
+                return
             except KeyboardInterrupt:
                 force = True
 
