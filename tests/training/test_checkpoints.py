@@ -13,6 +13,7 @@ from stable_baselines3 import HerReplayBuffer
 from stable_baselines3.common.buffers import DictReplayBuffer, ReplayBuffer
 
 from unified_manip.training import checkpoints, replay_buffers
+from unified_manip.training.her import GoalRelHerReplayBuffer
 from unified_manip.training.runlock import DirectoryInUse, DirectoryLock, read_owner
 
 BOX = spaces.Box(-1, 1, (5,), np.float32)
@@ -105,6 +106,23 @@ def test_trimmed_buffer_is_a_fraction_of_the_whole_pickle(tmp_path):
         pickle.dump(buffer, f)
     # 100 of 10,000 rows: the whole pickle is about 100 times larger.
     assert (tmp_path / "whole.pkl").stat().st_size > 50 * (tmp_path / "trimmed.pkl").stat().st_size
+
+
+def test_a_buffer_saved_by_sb3s_her_restores_into_the_her_algorithms_buffer(tmp_path):
+    """Checkpoints written before the HER algorithms used GoalRelHerReplayBuffer resume;
+    the reverse (its save into SB3's own buffer) is refused."""
+    saved = make_buffer("her", 80)
+    fill(saved, 10)
+    replay_buffers.save_trimmed(saved, tmp_path / "old.pkl")
+    ours = GoalRelHerReplayBuffer(80, GOALS, ACTION, env=None, n_envs=N_ENVS, copy_info_dict=True)
+    replay_buffers.restore(ours, tmp_path / "old.pkl")
+    assert (ours.pos, ours.full) == (saved.pos, saved.full)
+    for key, rows in saved.observations.items():
+        np.testing.assert_array_equal(ours.observations[key], rows)
+    np.testing.assert_array_equal(ours.ep_length, saved.ep_length)
+    replay_buffers.save_trimmed(ours, tmp_path / "new.pkl")
+    with pytest.raises(replay_buffers.ReplayBufferMismatch, match="saved from a unified_manip.training.her.GoalRel"):
+        replay_buffers.restore(make_buffer("her", 80), tmp_path / "new.pkl")
 
 
 @pytest.mark.parametrize(

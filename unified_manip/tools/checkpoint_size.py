@@ -45,7 +45,7 @@ def _model(task: str, buffer_size: int, steps: int):
         gamma=float(kwargs.get("gamma", 0.99)),
     )
     model = get_algo("sac_her").cls()(
-        env=env, seed=0, device="cpu", verbose=0, **_model_kwargs("sac_her", kwargs, run, env.action_space.shape[0])
+        env=env, seed=0, device="cpu", verbose=0, **_model_kwargs("sac_her", kwargs, run, env)
     )
     model.learn(steps)
     return model

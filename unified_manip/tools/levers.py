@@ -148,7 +148,7 @@ def _model(lever: Lever, task_id: str, action_mode: str, seed: int, warmup: int,
         seed=seed,
         device=device,
         verbose=0,
-        **_model_kwargs(lever.algo, kwargs, run, env.action_space.shape[0]),
+        **_model_kwargs(lever.algo, kwargs, run, env),
     )
 
 

@@ -24,7 +24,7 @@ class Algo:
     cls_name: str
     her: bool = False
     off_policy: bool = True
-    buffer: str = "stable_baselines3:HerReplayBuffer"  # module:class of the HER buffer
+    buffer: str = "unified_manip.training.her:GoalRelHerReplayBuffer"  # module:class of the HER buffer
 
     def cls(self):
         return getattr(importlib.import_module(self.module), self.cls_name)

@@ -2,12 +2,12 @@
 
 sb3-contrib 2.9 ships CrossQ with an ``MlpPolicy`` only, and its update evaluates the
 critic once on ``torch.cat([observations, next_observations])``, which fails for the
-``Dict`` batches a :class:`~stable_baselines3.HerReplayBuffer` samples. Two small pieces
+``Dict`` batches a HER replay buffer samples. Two small pieces
 make it work without copying the algorithm:
 
 * :class:`CrossQ` adds a ``MultiInputPolicy``: CrossQ's policy with SB3's
   ``CombinedExtractor``, as every other SB3 algorithm has.
-* :class:`CatDictHerReplayBuffer` is a HerReplayBuffer whose sampled observations are a
+* :class:`CatDictHerReplayBuffer` is a HER replay buffer whose sampled observations are a
   :class:`CatDict`: a dict that ``torch.cat`` concatenates key by key.
 """
 
@@ -18,8 +18,9 @@ from typing import Any
 import torch
 from sb3_contrib import CrossQ as _CrossQ
 from sb3_contrib.crossq.policies import CrossQPolicy
-from stable_baselines3 import HerReplayBuffer
 from stable_baselines3.common.torch_layers import CombinedExtractor
+
+from unified_manip.training.her import GoalRelHerReplayBuffer
 
 
 class CatDict(dict):
@@ -34,8 +35,9 @@ class CatDict(dict):
         return cls({key: torch.cat([t[key] for t in tensors], *rest, **kwargs) for key in tensors[0]})
 
 
-class CatDictHerReplayBuffer(HerReplayBuffer):
-    """HerReplayBuffer whose samples' observations and next observations are :class:`CatDict`."""
+class CatDictHerReplayBuffer(GoalRelHerReplayBuffer):
+    """The HER algorithms' buffer (:mod:`unified_manip.training.her`), whose samples'
+    observations and next observations are :class:`CatDict`."""
 
     def sample(self, batch_size: int, env=None):
         samples = super().sample(batch_size, env)

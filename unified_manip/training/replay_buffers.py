@@ -88,6 +88,10 @@ def save_trimmed(buffer, path: Path) -> int:
 def restore(buffer, path: Path) -> None:
     """Fill ``buffer`` (freshly allocated, same capacity) from a :func:`save_trimmed` file.
 
+    A buffer class may name, in ``restores_from``, other classes whose saves it takes
+    (:class:`~unified_manip.training.her.GoalRelHerReplayBuffer` takes SB3's
+    HerReplayBuffer's: the same rows).
+
     Raises:
         ReplayBufferMismatch: the file is not a trimmed buffer, or its class, capacity,
             env count or row layout differ from ``buffer``'s.
@@ -97,7 +101,8 @@ def restore(buffer, path: Path) -> None:
     if not isinstance(state, dict) or state.get("format") != FORMAT:
         raise ReplayBufferMismatch(f"not a trimmed replay buffer (expected format {FORMAT})")
     cls = f"{type(buffer).__module__}.{type(buffer).__qualname__}"
-    if _current_name(state["class"]) != cls:
+    saved = _current_name(state["class"])
+    if saved != cls and saved not in getattr(type(buffer), "restores_from", ()):
         raise ReplayBufferMismatch(f"saved from a {state['class']}, restoring into a {cls}")
     if (state["buffer_size"], state["n_envs"]) != (buffer.buffer_size, buffer.n_envs):
         raise ReplayBufferMismatch(

@@ -82,26 +82,33 @@ def eval_env(req: TrainRequest, n_envs: int):
     return env
 
 
-def model_kwargs(
-    algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, action_dim: int, observation_space: Any = None
-) -> dict[str, Any]:
-    """The algorithm's keyword arguments: ``algo_kwargs``, plus the HER replay buffer,
-    TD3's action noise (``run.action_noise_std``) and, for an ``observation_space`` with
-    image keys, a CNN per image key (:class:`~unified_manip.training.images.ImageExtractor`)."""
+def model_kwargs(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, env: Any) -> dict[str, Any]:
+    """The algorithm's keyword arguments for a model on the vector ``env``: ``algo_kwargs``,
+    plus the HER replay buffer, TD3's action noise (``run.action_noise_std``) and, for an
+    observation with image keys, a CNN per image key
+    (:class:`~unified_manip.training.images.ImageExtractor`).
+
+    With ``run.relabel_goal_rel``, the HER buffer also gets the ``goal_rel`` slices of the
+    env's ``observation_layout`` (none there: nothing to move)."""
     algo = get_algo(algo_name)
     kwargs = dict(algo_kwargs)
-    if observation_space is not None:
-        from unified_manip.training.images import has_images, with_image_extractor
+    from unified_manip.training.images import has_images, with_image_extractor
 
-        if has_images(observation_space):
-            kwargs["policy_kwargs"] = with_image_extractor(kwargs.get("policy_kwargs"))
+    if has_images(env.observation_space):
+        kwargs["policy_kwargs"] = with_image_extractor(kwargs.get("policy_kwargs"))
     if algo.her:
+        from unified_manip.training.her import goal_rel_slices
+
         kwargs["replay_buffer_class"] = algo.buffer_cls()
+        slices = goal_rel_slices(env.get_attr("observation_layout", [0])[0]) if run.relabel_goal_rel else ()
+        if slices:
+            kwargs["replay_buffer_kwargs"] = {**(kwargs.get("replay_buffer_kwargs") or {}), "goal_rel": slices}
     if run.action_noise_std is not None:
         from stable_baselines3.common.noise import NormalActionNoise
 
         std = float(run.action_noise_std)
-        kwargs["action_noise"] = NormalActionNoise(np.zeros(action_dim), std * np.ones(action_dim))
+        shape = env.action_space.shape
+        kwargs["action_noise"] = NormalActionNoise(np.zeros(shape), std * np.ones(shape))
     return kwargs
 
 

@@ -214,7 +214,7 @@ def _train_owned(
                 device=device,
                 tensorboard_log=str(run_dir / "tb"),
                 verbose=0,
-                **_model_kwargs(req.algo, algo_kwargs, run, env.action_space.shape[0], env.observation_space),
+                **_model_kwargs(req.algo, algo_kwargs, run, env),
             )
             if run.demos.demonstrations:
                 demonstrate(model, req, run, log)
