@@ -86,6 +86,7 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("ray")  # one local Ray at a time: its raylet has 30 s to start
 def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
     # In its own process, as users run it: Ray's head is forked from a small CLI process,
     # never from a test worker that has grown over the whole suite.
@@ -204,7 +205,7 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
         (signal.SIGINT, "local"),
         (signal.SIGHUP, "local"),
         (signal.SIGKILL, "local"),
-        (signal.SIGTERM, "ray"),
+        pytest.param(signal.SIGTERM, "ray", marks=pytest.mark.xdist_group("ray")),
     ],
     ids=["term", "int", "hangup", "kill", "ray-term"],
 )
