@@ -69,6 +69,26 @@ TINY_GRID = {
 }
 
 
+#: Ray's own message when a local node's raylet misses the 30 s it is given to register with
+#: the GCS (hard-coded in ray/_private/node.py); a busy machine can miss it.
+RAY_NODE_TIMEOUT = "The current node timed out during startup"
+
+#: The marks of a test that starts a local Ray: one such test at a time (xdist group "ray"),
+#: and one more try only when Ray's node itself did not start (``RAY_NODE_TIMEOUT``, matched
+#: in the failure's message); any other failure fails at once.
+LOCAL_RAY = (
+    pytest.mark.xdist_group("ray"),
+    pytest.mark.flaky(reruns=1, only_rerun=[RAY_NODE_TIMEOUT]),
+)
+
+
+def local_ray(test):
+    """Decorate a test that starts a local Ray with :data:`LOCAL_RAY`."""
+    for mark in LOCAL_RAY:
+        test = mark(test)
+    return test
+
+
 def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
     path = tmp_path / name
     path.write_text(yaml.safe_dump(doc, sort_keys=False))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -61,3 +62,30 @@ def test_the_readme_test_command_keeps_xdist_groups_on_one_worker(tmp_path):
     assert len(ran) == 20, proc.stdout[-2000:]
     workers = {g: {w for w, i in ran if int(i) % 2 == g} for g in (0, 1)}
     assert all(len(w) == 1 for w in workers.values()), f"groups spread over workers: {workers}"
+
+
+def test_a_local_ray_test_runs_again_only_when_rays_node_did_not_start(tmp_path):
+    """``LOCAL_RAY`` (tests/conftest.py) gives a test one more try when Ray's own node start
+    timed out, under the README's command; any other failure fails on its first try."""
+    import subprocess
+    import sys
+
+    (tmp_path / "test_retry.py").write_text(
+        "from pathlib import Path\n\n"
+        "import pytest\n"
+        "from conftest import LOCAL_RAY, RAY_NODE_TIMEOUT\n\n"
+        "MESSAGES = {'ray': 'Ray did not start on this machine: ' + RAY_NODE_TIMEOUT + '. This could happen',\n"
+        "            'other': 'the run did not finish'}\n\n"
+        "@pytest.mark.parametrize('case', [pytest.param(c, marks=LOCAL_RAY) for c in MESSAGES])\n"
+        "def test_fails_once(case):\n"
+        "    tries = Path(f'tries-{case}')\n"
+        "    tries.write_text((tries.read_text() if tries.exists() else '') + 'x')\n"
+        "    assert len(tries.read_text()) > 1, MESSAGES[case]\n"
+    )
+    (tmp_path / "pytest.ini").write_text("[pytest]\n")  # this directory is the rootdir, not the project's
+    cmd = [sys.executable, "-m", "pytest", "-n", "2", "--dist", "loadgroup", "-p", "no:cacheprovider"]
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "tests")}  # LOCAL_RAY, imported as a module
+    proc = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1, proc.stdout[-2000:]
+    assert "1 failed, 1 passed, 1 rerun" in proc.stdout, proc.stdout[-2000:]
+    assert (tmp_path / "tries-ray").read_text() == "xx" and (tmp_path / "tries-other").read_text() == "x"

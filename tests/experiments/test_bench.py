@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import TINY_GRID, write_grid
+from conftest import LOCAL_RAY, TINY_GRID, local_ray, write_grid
 
 from unified_manip.envs.rewards import RewardSpec, Term
 from unified_manip.experiments.bench import run_grid
@@ -86,7 +86,7 @@ def test_local_executor_runs_a_2x2_grid(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xdist_group("ray")  # one local Ray at a time: its raylet has 30 s to start
+@local_ray
 def test_ray_executor_runs_the_same_grid_on_a_local_ray(tmp_path):
     # In its own process, as users run it: Ray's head is forked from a small CLI process,
     # never from a test worker that has grown over the whole suite.
@@ -205,7 +205,7 @@ def test_killed_bench_resumes_with_exactly_one_complete_row_per_run(sig, tmp_pat
         (signal.SIGINT, "local"),
         (signal.SIGHUP, "local"),
         (signal.SIGKILL, "local"),
-        pytest.param(signal.SIGTERM, "ray", marks=pytest.mark.xdist_group("ray")),
+        pytest.param(signal.SIGTERM, "ray", marks=LOCAL_RAY),
     ],
     ids=["term", "int", "hangup", "kill", "ray-term"],
 )

@@ -26,6 +26,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import yaml
+from conftest import local_ray
 
 import unified_manip
 from unified_manip.envs.registry import TASKS, register_task
@@ -254,7 +255,7 @@ def test_a_second_bench_on_one_output_directory_is_refused(tmp_path):
     assert row["steps"] == 600 and [t for t, _ in row["curve"]] == [200, 400, 600]
 
 
-@pytest.mark.xdist_group("ray")  # one local Ray at a time: its raylet has 30 s to start
+@local_ray
 def test_a_killed_ray_worker_is_retried_and_leaves_one_complete_row(tmp_path):
     # The bench runs in its own process, as users run it: Ray's head is forked from a small
     # CLI process, never from a test worker that has grown over the whole suite.
