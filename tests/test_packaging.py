@@ -30,7 +30,7 @@ def _python(code: str, cwd: Path | None = None, python: str = sys.executable) ->
 def test_every_package_is_listed_in_pyproject():
     listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {"unified_manip.baselines"}  # data only: no __init__.py
-    for top, name in ((ROOT / "unified_manip", "unified_manip"), (ROOT / "tasks", "unified_manip.envs.tasks")):
+    for top, name in ((ROOT / "unified_manip", "unified_manip"),):
         for init in top.rglob("__init__.py"):
             rel = init.parent.relative_to(top).parts
             found.add(".".join((name, *rel)))
@@ -64,7 +64,7 @@ def _copy_source(dest: Path) -> None:
     for name in ("pyproject.toml", "README.md"):
         shutil.copy2(ROOT / name, dest / name)
     ignore = shutil.ignore_patterns("__pycache__", "results", "*.egg-info")
-    for name in ("unified_manip", "tasks", "baselines"):
+    for name in ("unified_manip", "baselines"):
         shutil.copytree(ROOT / name, dest / name, ignore=ignore)
 
 

@@ -31,7 +31,7 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0+unknown"
 
-from unified_manip.envs import tasks as _tasks  # type: ignore[attr-defined]  # noqa: E402,F401  (registers every task)
+from unified_manip.envs import tasks as _tasks  # noqa: E402,F401  (registers every task)
 
 __all__ = [
     "ACTION_MODES",

@@ -14,7 +14,7 @@ Torque limits: 150, 250, 150, 150, 80, 80, 60 N m; the three unlimited roll join
 command +-pi. The non-native modes run on a copy of the model without the mocap weld,
 with position servos (kp 3000, 3000, 3000, 3000, 1500, 1500, 1000 N m/rad), gravity
 compensation on the arm and the base slides and torso frozen by joint equality
-constraints (see ``tasks/fetch/``). In the joint modes the observation gains 14
+constraints (see ``unified_manip/envs/tasks/fetch/``). In the joint modes the observation gains 14
 entries: the 7 arm angles (rad, shoulder pan, shoulder lift, upper-arm roll, elbow
 flex, forearm roll, wrist flex, wrist roll) and their velocities (rad/s). native and
 the ee modes keep upstream's vector exactly."""
