@@ -63,9 +63,11 @@ def _mode_table() -> str:
 
 
 def _reward_table() -> str:
-    from unified_manip.envs.rewards import REWARD_TYPES, SHAPINGS, make_reward_spec
+    from unified_manip.envs.registry import TASKS
+    from unified_manip.envs.rewards import REWARD_TYPES
 
-    return taskpages.reward_table(make_reward_spec, REWARD_TYPES, SHAPINGS)
+    term_sets = {spec.terms.name: spec.terms for spec in TASKS.values()}
+    return taskpages.reward_table(REWARD_TYPES, tuple(term_sets.values()))
 
 
 def _experiment(name: str) -> Path:

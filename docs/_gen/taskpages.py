@@ -166,7 +166,7 @@ def task_page(spec, has_frame: bool) -> str:
         "|---|---|",
         f"| ID | `{spec.id}` |",
         f"| family | `{spec.family}` |",
-        f"| dense-reward shaping | `{spec.shaping}` ([reward designs](../concepts/rewards.md)) |",
+        f"| reward term set | `{spec.terms.name}` ([reward designs](../concepts/rewards.md)) |",
         f"| goal size | {spec.goal_dim} |",
         f"| episode length | {spec.max_episode_steps} steps |",
         f"| success threshold | goal distance < {spec.distance_threshold:g} |",
@@ -231,21 +231,24 @@ def _term_formula(fn) -> str:
         x = "d_goal" if fn.of == "distance" else fn.of
         shaped = f"1 - tanh({fn.gain:g} · {x})"
         return f"{fn.gate} · ({shaped})" if fn.gate else shaped
-    return {"_sparse": "success - 1", "_success": "success", "_action": "-Σa² (`action_sq`)", "_drop": "-dropped"}.get(
-        getattr(fn, "__name__", ""), repr(fn)
-    )
+    known = {"sparse": "success - 1", "success_bonus": "success", "action_penalty": "-Σa² (`action_sq`)"}
+    name = getattr(fn, "__name__", "")
+    if name in known:
+        return known[name]
+    doc = (getattr(fn, "__doc__", None) or repr(fn)).strip().splitlines()[0]
+    return doc.split(":")[0].strip("`. ")  # a term set's own term: its docstring's formula
 
 
-def reward_table(make_reward_spec, reward_types, shapings) -> str:
-    """Markdown: the terms of every reward design for every shaping template, with the
-    default ``RewardConfig``'s scales, built by the env's own ``make_reward_spec``."""
-    rows = ['| `reward_type` | shaping | terms (`info["reward_terms"]` key: scale × term) |', "|---|---|---|"]
+def reward_table(reward_types, term_sets) -> str:
+    """Markdown: the terms of every reward design for every term set, with the default
+    ``RewardConfig``'s scales, built by the term sets' own ``design``."""
+    rows = ['| `reward_type` | term set | terms (`info["reward_terms"]` key: scale × term) |', "|---|---|---|"]
     for reward_type in reward_types:
-        for shaping in shapings:
-            spec = make_reward_spec(reward_type, shaping)
+        for term_set in term_sets:
+            spec = term_set.design(reward_type)
             terms = "; ".join(f"`{t.name}`: {t.scale:g} × ({_term_formula(t.fn)})" for t in spec.terms)
-            rows.append(f"| `{reward_type}` | `{shaping}` | {terms} |")
+            rows.append(f"| `{reward_type}` | `{term_set.name}` | {terms} |")
             if reward_type == "sparse":
-                rows[-1] = f"| `{reward_type}` | every shaping | {terms} |"
+                rows[-1] = f"| `{reward_type}` | every term set | {terms} |"
                 break
     return "\n".join(rows)

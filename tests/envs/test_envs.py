@@ -18,7 +18,6 @@ from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import unified_manip
-from unified_manip.envs.rewards import INFO_KEYS
 
 
 def _assert_same(a, b):
@@ -124,7 +123,7 @@ def test_spaces_and_info(case):
     obs, r, terminated, truncated, info = env.step(env.action_space.sample())
     assert env.observation_space.contains(obs)
     assert isinstance(r, float)
-    assert set(INFO_KEYS) <= info.keys()
+    assert set(spec.terms.info_keys) <= info.keys()
     assert info["is_success"] in (0.0, 1.0)
     assert info["sim_unstable"] is False
     assert r == pytest.approx(sum(info["reward_terms"].values()), abs=1e-12)

@@ -8,7 +8,8 @@ from conftest import make, random_actions
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import squared_norm, squared_norms
-from unified_manip.envs.rewards import RewardConfig, RewardScales, make_reward_spec
+from unified_manip.envs.rewards import RewardConfig, RewardScales
+from unified_manip.envs.tasks.gripper_terms import REACH
 from unified_manip.envs.wrappers import RawRewardTerms
 
 TASK = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -60,10 +61,7 @@ def test_reward_config_and_spec_are_validated():
         EnvConfig(reward_config={"place": 2.0})
     assert str(err.value) == "reward_config must be a RewardConfig or None, got dict"
     with pytest.raises(ValueError) as err:
-        make_reward_spec("dense", "lift")
-    assert str(err.value) == "unknown shaping 'lift'; expected one of 'reach', 'push', 'grasp'"
-    with pytest.raises(ValueError) as err:
-        make_reward_spec("shaped", "reach")
+        REACH.design("shaped")
     assert str(err.value) == "unknown reward_type 'shaped'; expected one of 'sparse', 'dense', 'dense_penalized'"
 
 

@@ -10,7 +10,8 @@ from test_vector import assert_same, pair, play
 
 import unified_manip
 from unified_manip.envs.config import EnvConfig
-from unified_manip.envs.rewards import RewardConfig, RewardScales, make_reward_spec
+from unified_manip.envs.rewards import RewardConfig, RewardScales
+from unified_manip.envs.tasks.gripper_terms import GRASP
 from unified_manip.envs.setup import CONFIG_FIELDS, env_setup
 from unified_manip.envs.vector import native_support
 from unified_manip.envs.vector.env import NativeVectorEnv
@@ -24,7 +25,7 @@ FIELD_VALUES = {
     "render_width": 64,
     "render_height": 48,
     "reward_config": RewardConfig(scales=RewardScales(success=3.0), distance_gain=2.0),
-    "reward_spec": make_reward_spec("dense_penalized", "grasp", RewardConfig(distance_gain=7.0)),
+    "reward_spec": GRASP.design("dense_penalized", RewardConfig(distance_gain=7.0)),
     "controller_options": {"step": 0.03},
     "observation": ["relative", "rgb", "depth"],
     "observation_distractors": 2,

@@ -499,7 +499,6 @@ def _tiny_request(run_dir: Path, **kwargs):
 def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
-    from unified_manip.envs.rewards import make_reward_spec
     from unified_manip.training.train import train
 
     run_dir = tmp_path / "run"
@@ -510,7 +509,7 @@ def test_training_logs_raw_reward_terms_beside_the_scaled_ones(tmp_path):
         acc.Reload()
         for tag in acc.Tags()["scalars"]:
             scalars.setdefault(tag, {}).update({e.step: e.value for e in acc.Scalars(tag)})
-    spec = make_reward_spec("dense_penalized", unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"].shaping)
+    spec = unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"].terms.design("dense_penalized")
     for term in spec.terms:
         scaled, raw = scalars[f"reward_terms/{term.name}"], scalars[f"reward_terms_raw/{term.name}"]
         assert scaled.keys() == raw.keys() and len(scaled) >= 1

@@ -90,9 +90,11 @@ class Backend(abc.ABC):
         """The goal sampled at the last reset."""
 
     @abc.abstractmethod
-    def reward_state(self) -> tuple[float, float]:
-        """``(grip_to_object, grasped)``: gripper-object distance in metres and 1.0
-        while the object is held (0.0 and 0.0 on tasks without an object)."""
+    def quantities(self) -> Mapping[str, float]:
+        """The task's named per-step quantities now, as floats: at least every input of the
+        task's term set (:attr:`TaskSpec.terms <unified_manip.envs.registry.TaskSpec.terms>`),
+        which the env copies into ``info`` for the reward terms. They must not depend on the
+        goal, so that hindsight relabelling recomputes the reward exactly."""
 
     @abc.abstractmethod
     def unstable(self) -> bool:

@@ -8,11 +8,14 @@ simulator is built.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 from unified_manip.envs.cameras import DEFAULT_IMAGE_SIZE, split_images, validate_image_size
 from unified_manip.envs.observations import validate_count, validate_noise
-from unified_manip.envs.rewards import RewardConfig, RewardSpec, make_reward_spec, validate_reward_type
+from unified_manip.envs.rewards import RewardConfig, RewardSpec, validate_reward_type
+
+if TYPE_CHECKING:
+    from unified_manip.envs.termsets import TermSet
 
 #: Every action mode the interface knows, in the order ``unified-manip list`` shows them.
 #: A family declares which it supports, each with its controller config
@@ -48,8 +51,9 @@ class EnvConfig:
     Attributes:
         action_mode: How the ``Box(-1, 1)`` action becomes control; one of
             :data:`ACTION_MODES` that the task supports.
-        reward_type: ``"sparse"`` (0 on success, -1 otherwise), ``"dense"`` (phased
-            shaping) or ``"dense_penalized"`` (dense plus action and drop penalties).
+        reward_type: ``"sparse"`` (0 on success, -1 otherwise), ``"dense"`` (the task's
+            shaped terms and a success bonus) or ``"dense_penalized"`` (dense plus the
+            task's penalties).
         terminate_on_success: End the episode with ``terminated=True`` on success.
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width in pixels of ``rgb_array`` frames.
@@ -136,12 +140,12 @@ class EnvConfig:
         if isinstance(self.observation_noise, Mapping):
             object.__setattr__(self, "observation_noise", dict(self.observation_noise))
 
-    def reward_design(self, shaping: str) -> RewardSpec:
+    def reward_design(self, terms: TermSet) -> RewardSpec:
         """The reward design an env with this config uses: :attr:`reward_spec` if given,
-        else :attr:`reward_type`'s for the task's ``shaping`` with :attr:`reward_config`."""
+        else :attr:`reward_type`'s from the task's term set with :attr:`reward_config`."""
         if self.reward_spec is not None:
             return self.reward_spec
-        return make_reward_spec(self.reward_type, shaping, self.reward_config)
+        return terms.design(self.reward_type, self.reward_config)
 
     def require_supported(self, task_id: str, supported: tuple[str, ...]) -> None:
         """Raise ``ValueError`` if the task does not support the chosen action mode."""

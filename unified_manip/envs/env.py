@@ -15,6 +15,7 @@ from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.setup import env_setup
+from unified_manip.envs.termsets import ACTION_SQ
 
 
 class UnifiedManipEnv(GoalEnv):
@@ -52,10 +53,10 @@ class UnifiedManipEnv(GoalEnv):
         observation design names those image groups.
 
     Info (at reset and on every step):
-        ``is_success`` (1.0 / 0.0), ``grip_to_object``, ``grasped``, ``dropped``,
-        ``action_sq``, ``sim_unstable``, plus ``reward_terms`` on steps and the
-        action mode's diagnostics (``ik_residual`` in metres and
-        ``ik_limit_active`` under ``ee_delta``).
+        ``is_success`` (1.0 / 0.0), the task's reward inputs (its term set's
+        ``info_keys``, ``action_sq`` among them), ``sim_unstable``, plus
+        ``reward_terms`` on steps and the action mode's diagnostics (``ik_residual``
+        in metres and ``ik_limit_active`` under ``ee_delta``).
     """
 
     metadata = {"render_modes": ["rgb_array", "human"], "render_fps": 25}
@@ -67,7 +68,8 @@ class UnifiedManipEnv(GoalEnv):
         render_mode = self.config.render_mode
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
-        self.reward_spec = self.config.reward_design(self.task.shaping)
+        self._terms = self.task.terms
+        self.reward_spec = self.config.reward_design(self._terms)
         self._threshold = self.task.distance_threshold
         self._backend = setup.build_backend()
 
@@ -85,7 +87,7 @@ class UnifiedManipEnv(GoalEnv):
             f"action must have shape {(n,)} for {self.task.id} with action_mode={self.config.action_mode!r}"
         )
         self._last_obs = obs
-        self._was_grasped = 0.0
+        self._before: dict[str, float] = {}
 
     # ------------------------------------------------------------------ Gymnasium API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -94,14 +96,13 @@ class UnifiedManipEnv(GoalEnv):
         obs = self._read()
         obs["observation"] = self._stream.start(obs["observation"], self.np_random)
         self._last_obs = obs
-        grip_to_object, grasped = self._backend.reward_state()
-        self._was_grasped = grasped
+        quantities = self._quantities(unstable=False)
+        self._before = quantities
         info = {
             "is_success": self._success(obs),
-            "grip_to_object": grip_to_object,
-            "grasped": grasped,
-            "dropped": 0.0,
-            "action_sq": 0.0,
+            **quantities,
+            **self._terms.events_at_rest(),
+            ACTION_SQ: 0.0,
             "sim_unstable": False,
             **self._backend.extra_info(),
         }
@@ -124,25 +125,23 @@ class UnifiedManipEnv(GoalEnv):
         else:
             obs["observation"] = self._stream.advance(obs["observation"], self.np_random)
         self._last_obs = obs
-        grip_to_object, grasped = self._backend.reward_state()
-        if unstable:
-            grip_to_object, grasped = 0.0, 0.0
+        quantities = self._quantities(unstable)
+        events = self._terms.events_between(self._before, quantities)
         info = {
-            "grip_to_object": grip_to_object,
-            "grasped": grasped,
-            "dropped": float(self._was_grasped > 0.5 and grasped < 0.5),
-            "action_sq": squared_norm(action),
+            **quantities,
+            **{k: float(v) for k, v in events.items()},
+            ACTION_SQ: squared_norm(action),
             "sim_unstable": unstable,
             **diagnostics,
             **self._backend.extra_info(),
         }
-        self._was_grasped = grasped
+        self._before = quantities
         # Same dtype path as compute_reward, so the two agree bit for bit.
         distance = self.task.goal_distance(
             obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64)
         )
         success = float(distance < self._threshold)
-        terms = self.reward_spec.terms_batch(distance, success, info)  # reads INFO_KEYS
+        terms = self.reward_spec.terms_batch(distance, success, info)  # reads the term set's info_keys
         reward_terms = {k: float(v) for k, v in terms.items()}
         reward = float(sum(terms.values()))
         info["is_success"] = success
@@ -200,7 +199,7 @@ class UnifiedManipEnv(GoalEnv):
         desired_goal = np.asarray(desired_goal, dtype=np.float64)
         distance = self.task.goal_distance(achieved_goal, desired_goal)
         success = (distance < self._threshold).astype(np.float64)
-        ctx = info_arrays(info, np.shape(distance))
+        ctx = info_arrays(info, np.shape(distance), self._terms.info_keys)
         return self.reward_spec.total(distance, success, ctx)
 
     def compute_reward_terms(self, achieved_goal, desired_goal, info, raw: bool = False) -> dict[str, np.ndarray]:
@@ -211,7 +210,7 @@ class UnifiedManipEnv(GoalEnv):
         desired_goal = np.asarray(desired_goal, dtype=np.float64)
         distance = self.task.goal_distance(achieved_goal, desired_goal)
         success = (distance < self._threshold).astype(np.float64)
-        ctx = info_arrays(info, np.shape(distance))
+        ctx = info_arrays(info, np.shape(distance), self._terms.info_keys)
         spec = self.reward_spec
         return spec.raw_batch(distance, success, ctx) if raw else spec.terms_batch(distance, success, ctx)
 
@@ -252,6 +251,14 @@ class UnifiedManipEnv(GoalEnv):
         if self._images is not None:
             obs.update(self._images.read(b.model, b.data))
         return obs
+
+    def _quantities(self, unstable: bool) -> dict[str, float]:
+        """The term set's inputs now, from the backend's quantities; 0 after a divergence
+        (a diverged simulator has no meaningful state)."""
+        if unstable:
+            return {k: 0.0 for k in self._terms.inputs}
+        quantities = self._backend.quantities()
+        return {k: float(quantities[k]) for k in self._terms.inputs}
 
     def _success(self, obs: dict[str, np.ndarray]) -> float:
         d = self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"])

@@ -17,7 +17,7 @@ import numpy as np
 from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
-from unified_manip.envs.rewards import SHAPINGS
+from unified_manip.envs.termsets import TermSet
 
 if TYPE_CHECKING:
     from unified_manip.envs.backend import Backend
@@ -38,8 +38,8 @@ class TaskSpec:
     Attributes:
         name: Short name, e.g. ``"Arm4Reach"``; the ID is ``UnifiedManip/<name>-v<version>``.
         family: The simulator family, e.g. ``"arm4"``.
-        shaping: The dense rewards' template: ``"reach"`` (no object), ``"push"`` (an
-            object, no grasp gate) or ``"grasp"`` (placing gated by the grasp).
+        terms: The task's reward terms and the per-step quantities they read
+            (:class:`~unified_manip.envs.termsets.TermSet`).
         make_backend: Builds the backend from a validated config and the action mode's
             resolved controller config (``EnvSetup.build_backend``).
         controllers: The action modes this task supports, each with its controller
@@ -72,7 +72,7 @@ class TaskSpec:
 
     name: str
     family: str
-    shaping: str
+    terms: TermSet
     make_backend: Callable[[EnvConfig, ControllerConfig], "Backend"]
     controllers: Mapping[str, ControllerConfig]
     goal_dim: int
@@ -99,8 +99,8 @@ class TaskSpec:
         return gym.make(self.upstream_id, disable_env_checker=True)
 
     def __post_init__(self) -> None:
-        if self.shaping not in SHAPINGS:
-            raise ValueError(f"{self.name}: unknown shaping {self.shaping!r}; expected one of {SHAPINGS}")
+        if not isinstance(self.terms, TermSet):
+            raise TypeError(f"{self.name}: terms must be a TermSet, got {type(self.terms).__name__}")
         unknown = [m for m in self.controllers if m not in ACTION_MODES]
         if unknown:
             raise ValueError(f"{self.name}: unknown action modes {unknown}; expected from {ACTION_MODES}")

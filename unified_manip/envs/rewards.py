@@ -4,34 +4,24 @@ Every reward is a sum of terms. A term is a pure function of
 
 * ``distance``: the task's goal distance between achieved and desired goal, shape ``(B,)``;
 * ``success``: the task's success flag for the same goals, shape ``(B,)``;
-* a few per-step quantities that do not depend on the goal, read from ``info`` so
-  that hindsight relabelling (which changes only the goals) stays exact:
-
-  ===================  ===========================================================
-  ``info`` key         meaning
-  ===================  ===========================================================
-  ``grip_to_object``   distance from the gripper to the object, metres
-  ``grasped``          1.0 while the object is held, else 0.0
-  ``dropped``          1.0 on the step a held object was let go, else 0.0
-  ``action_sq``        sum of squares of the (clipped) action
-  ===================  ===========================================================
+* ``ctx``: the task's per-step reward inputs, which do not depend on the goal, read from
+  ``info`` so that hindsight relabelling (which changes only the goals) stays exact.
+  Which inputs a task has is its term set's business
+  (:class:`unified_manip.envs.termsets.TermSet`); every task has ``action_sq``, the sum
+  of squares of the (clipped) action.
 
 The designs (``reward_type``):
 
-* ``sparse``: ``success - 1``, i.e. 0 on success and -1 otherwise.
-* ``dense``: the design document's phased shaping. ``reach = 1 - tanh(5 d_reach)``
-  where ``d_reach`` is the gripper-object distance (or the goal distance on tasks
-  without an object); ``place = 5 * gate * (1 - tanh(5 d_goal))`` where ``gate`` is
-  ``grasped`` on tasks that need a grasp and 1 on tasks that push; ``success = 10``
-  on success.
-* ``dense_penalized``: ``dense`` plus ``action = -0.01 * sum(a^2)`` and
-  ``drop = -10`` on the step a held object is dropped.
+* ``sparse``: ``success - 1``, i.e. 0 on success and -1 otherwise, on every task.
+* ``dense``: the task's shaped terms plus a success bonus (its term set's ``dense``).
+* ``dense_penalized``: ``dense`` plus the task's penalties (its term set's
+  ``penalties``), at least ``action = -0.01 * sum(a^2)``.
 
-Which dense terms a task gets is its *shaping* template (:data:`SHAPINGS`, the
-``TaskSpec.shaping`` of the task): ``reach`` (no object), ``push`` (an object, no grasp
-gate) or ``grasp`` (the place term gated by the grasp).
+This module holds what every task shares: the designs' names, the numbers
+(:class:`RewardConfig`), the generic terms (:class:`Shaped`, ``success``, ``action``) and
+the batched evaluation (:class:`RewardSpec`).
 
-The numbers above are named in a :class:`RewardConfig` (MuJoCo Playground's
+The numbers are named in a :class:`RewardConfig` (MuJoCo Playground's
 ``reward_config.scales``): ``gym.make(ID, reward_type="dense",
 reward_config=RewardConfig(scales=RewardScales(place=2.0)))`` changes one.
 ``info["reward_terms"]`` holds each term already multiplied by its scale, so the terms
@@ -59,12 +49,6 @@ def validate_reward_type(reward_type: str) -> None:
         raise ValueError(f"unknown reward_type {reward_type!r}; expected one of {choices}")
 
 
-#: Shaping templates: which terms the dense rewards use (``TaskSpec.shaping``).
-SHAPINGS: tuple[str, ...] = ("reach", "push", "grasp")
-
-#: The ``info`` keys the reward terms read.
-INFO_KEYS: tuple[str, ...] = ("grip_to_object", "grasped", "dropped", "action_sq")
-
 TermFn = Callable[[np.ndarray, np.ndarray, Mapping[str, np.ndarray]], np.ndarray]
 
 
@@ -72,13 +56,16 @@ TermFn = Callable[[np.ndarray, np.ndarray, Mapping[str, np.ndarray]], np.ndarray
 class RewardScales:
     """The scale of every term (what it is multiplied by in the reward).
 
+    The names are those of the terms the tasks' term sets build; a term set reads the
+    scales of its own terms.
+
     Attributes:
         sparse: ``success - 1``.
-        reach: ``1 - tanh(g d_reach)``.
-        place: ``gate (1 - tanh(g d_goal))``.
+        reach: the shaped approach term ``1 - tanh(g d)``.
+        place: the shaped goal term ``gate (1 - tanh(g d_goal))``.
         success: 1 on success.
         action: ``-sum(a^2)`` (``dense_penalized``).
-        drop: -1 on the step a held object is let go (``dense_penalized``).
+        drop: -1 on the step an object is let go (``dense_penalized``).
     """
 
     sparse: float = 1.0
@@ -120,8 +107,8 @@ class Shaped:
 
     Attributes:
         gain: ``g`` of ``1 - tanh(g x)``.
-        of: ``"distance"`` (the goal distance) or an :data:`INFO_KEYS` quantity.
-        gate: An :data:`INFO_KEYS` quantity to multiply by (``"grasped"``), or ``None``.
+        of: ``"distance"`` (the goal distance) or the name of a reward input.
+        gate: The name of a reward input to multiply by, or ``None``.
     """
 
     gain: float
@@ -134,20 +121,19 @@ class Shaped:
         return value if self.gate is None else ctx[self.gate] * value
 
 
-def _sparse(distance, success, ctx):
+def sparse(distance, success, ctx):
+    """``success - 1``."""
     return success - 1.0
 
 
-def _success(distance, success, ctx):
+def success_bonus(distance, success, ctx):
+    """1 on success, else 0."""
     return success
 
 
-def _action(distance, success, ctx):
+def action_penalty(distance, success, ctx):
+    """``-sum(a^2)`` of the clipped action."""
     return -ctx["action_sq"]
-
-
-def _drop(distance, success, ctx):
-    return -ctx["dropped"]
 
 
 @dataclass(frozen=True)
@@ -195,50 +181,27 @@ class RewardSpec:
         return {t.name: t.fn(distance, success, ctx) for t in self.terms}
 
 
-def make_reward_spec(reward_type: str, shaping: str, config: RewardConfig | None = None) -> RewardSpec:
-    """The reward design ``reward_type`` for a task of shaping template ``shaping``,
-    with the numbers of ``config`` (the defaults if ``None``)."""
-    validate_reward_type(reward_type)
-    if shaping not in SHAPINGS:
-        raise ValueError(f"unknown shaping {shaping!r}; expected one of {', '.join(map(repr, SHAPINGS))}")
-    config = config or RewardConfig()
-    k, g = config.scales, config.distance_gain
-    if reward_type == "sparse":
-        return RewardSpec("sparse", (Term("sparse", _sparse, k.sparse),))
-    dense: tuple[Term, ...]
-    penalties: tuple[Term, ...]
-    if shaping == "reach":
-        dense = (Term("reach", Shaped(g), k.reach), Term("success", _success, k.success))
-        penalties = (Term("action", _action, k.action),)
-    else:
-        dense = (
-            Term("reach", Shaped(g, of="grip_to_object"), k.reach),
-            Term("place", Shaped(g, gate="grasped" if shaping == "grasp" else None), k.place),
-            Term("success", _success, k.success),
-        )
-        penalties = (Term("action", _action, k.action), Term("drop", _drop, k.drop))
-    return RewardSpec(reward_type, dense + penalties if reward_type == "dense_penalized" else dense)
+def sparse_terms(config: RewardConfig) -> tuple[Term, ...]:
+    """The ``sparse`` design's one term, the same on every task."""
+    return (Term("sparse", sparse, config.scales.sparse),)
 
 
-def info_arrays(info: Any, batch_shape: tuple[int, ...]) -> dict[str, np.ndarray]:
-    """Collect the reward inputs from one info dict or a batch of them.
+def info_arrays(info: Any, batch_shape: tuple[int, ...], keys: Sequence[str]) -> dict[str, np.ndarray]:
+    """Collect the reward inputs ``keys`` from one info dict or a batch of them.
 
     Args:
         info: A single ``info`` dict, or a sequence / object array of them (as
             Stable-Baselines3's ``HerReplayBuffer`` passes).
         batch_shape: The leading shape of the goals, ``()`` or ``(B,)``.
+        keys: The task's reward inputs (``TermSet.info_keys``).
 
     Returns:
-        A dict mapping every key in :data:`INFO_KEYS` to a float array of
-        ``batch_shape``. Missing keys read as 0.
+        A dict mapping every key to a float array of ``batch_shape``. Missing keys read as 0.
     """
     if isinstance(info, Mapping):
-        out = {k: np.full(batch_shape, float(info.get(k, 0.0))) for k in INFO_KEYS}
-        return out
+        return {k: np.full(batch_shape, float(info.get(k, 0.0))) for k in keys}
     infos: Sequence[Mapping[str, Any]] = list(np.asarray(info, dtype=object).reshape(-1))
     n = int(np.prod(batch_shape)) if batch_shape else 1
     if len(infos) != n:
         raise ValueError(f"got {len(infos)} infos for a batch of {n} goals")
-    return {
-        k: np.fromiter((float(i.get(k, 0.0)) for i in infos), np.float64, n).reshape(batch_shape) for k in INFO_KEYS
-    }
+    return {k: np.fromiter((float(i.get(k, 0.0)) for i in infos), np.float64, n).reshape(batch_shape) for k in keys}

@@ -287,9 +287,7 @@ def _check_buffer(env, algo_kwargs: dict[str, Any], her: bool) -> None:
 
 def _reward_scales(req: TrainRequest) -> dict[str, float]:
     """Each reward term's scale in the run's reward design (what the raw terms are logged from)."""
-    from unified_manip.envs.rewards import make_reward_spec
-
-    spec = make_reward_spec(req.reward_type, get_task(req.env).shaping)
+    spec = get_task(req.env).terms.design(req.reward_type)
     return {term.name: float(term.scale) for term in spec.terms}
 
 

@@ -94,9 +94,8 @@ class VectorizedArm4(BatchedBackend):
         self._ctrl = np.zeros((n, m.nu))
         self._grip = np.zeros((n, 3))
         self._goal = np.zeros((n, 3))
-        self._g2o = np.zeros(n)
-        self._grasped = np.zeros(n)
         self._unstable = np.zeros(n, dtype=bool)
+        self._quantities = {}
         self._residual = np.zeros(n)
         self._limit = np.zeros(n, dtype=bool)
         self._actions = np.zeros((n, self.action_dim))
@@ -184,7 +183,7 @@ class VectorizedArm4(BatchedBackend):
         b = self._backends[i]
         mujoco.mj_getState(b.model, b.data, self._state[i], _QPOS_QVEL)
         np.copyto(self._grip[i], self._grip_views[i])
-        self._g2o[i], self._grasped[i] = b.reward_state()
+        self._keep_quantities(i, b.quantities())
 
     # ------------------------------------------------------------------ batched reads
     def observations(self) -> dict[str, np.ndarray]:

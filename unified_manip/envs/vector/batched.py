@@ -15,7 +15,7 @@ Arrays hold one row per env. Rows of envs that were not part of the last ``step`
 from __future__ import annotations
 
 import abc
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -26,8 +26,9 @@ from unified_manip.envs.vector.pool import PhysicsPool
 class BatchedBackend(abc.ABC):
     """N simulations of one task under one action mode, each one of the family's backends.
 
-    A subclass fills ``_backends`` and ``_num_threads`` and calls :meth:`_attach`, which
-    builds what is not pickled (the thread pool, and whatever the subclass adds).
+    A subclass fills ``_backends`` and ``_num_threads``, sets ``_quantities = {}``, and
+    calls :meth:`_attach`, which builds what is not pickled (the thread pool, and whatever
+    the subclass adds).
 
     Attributes:
         num_envs: N.
@@ -39,8 +40,7 @@ class BatchedBackend(abc.ABC):
     _backends: list[Backend]
     _num_threads: int
     _pool: PhysicsPool
-    _g2o: np.ndarray
-    _grasped: np.ndarray
+    _quantities: dict[str, np.ndarray]
     _unstable: np.ndarray
     #: Attributes :meth:`_attach` rebuilds after unpickling.
     _transient: tuple[str, ...] = ("_pool",)
@@ -78,10 +78,17 @@ class BatchedBackend(abc.ABC):
         """Env ``index``'s own backend, holding its current state (to read observation groups)."""
         return self._backends[index]
 
-    def reward_state(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(grip_to_object, grasped)`` as float64 ``(N,)`` arrays (``Backend.reward_state``),
-        from the subclass's ``_g2o`` and ``_grasped``."""
-        return self._g2o.copy(), self._grasped.copy()
+    def quantities(self) -> dict[str, np.ndarray]:
+        """Every env's quantities (``Backend.quantities``), each a float64 ``(N,)`` array,
+        as :meth:`_keep_quantities` stored them."""
+        return {k: v.copy() for k, v in self._quantities.items()}
+
+    def _keep_quantities(self, i: int, values: Mapping[str, float]) -> None:
+        """Store env ``i``'s quantities in row ``i`` (the arrays are made on first sight)."""
+        for key, value in values.items():
+            if key not in self._quantities:
+                self._quantities[key] = np.zeros(self.num_envs)
+            self._quantities[key][i] = value
 
     def unstable(self) -> np.ndarray:
         """bool ``(N,)``: the physics of the env diverged during its last step (``_unstable``)."""

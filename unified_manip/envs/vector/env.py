@@ -23,7 +23,8 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions, squared_norms
 from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.registry import get_task
-from unified_manip.envs.rewards import INFO_KEYS, info_arrays
+from unified_manip.envs.rewards import info_arrays
+from unified_manip.envs.termsets import ACTION_SQ
 from unified_manip.envs.vector import infos as vinfo
 from unified_manip.envs.vector.batched import BatchedBackend
 from unified_manip.envs.vector.resets import env_seeds, reset_mask
@@ -63,7 +64,9 @@ class NativeVectorEnv(VectorEnv):
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode, "render_fps": self.task.render_fps}
         self.render_mode = config.render_mode
-        self.reward_spec = config.reward_design(self.task.shaping)
+        self._terms = terms = self.task.terms
+        self.reward_spec = config.reward_design(terms)
+        self._at_rest = tuple(k for k in terms.info_keys if k not in terms.inputs)
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched
@@ -87,7 +90,7 @@ class NativeVectorEnv(VectorEnv):
         )
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._last_obs = obs
-        self._was_grasped = np.zeros(n)
+        self._before = {k: np.zeros(n) for k in terms.inputs}
         self._elapsed = np.zeros(n, dtype=np.int64)
         self._autoreset = np.zeros(n, dtype=bool)
         self._needs_reset = True
@@ -111,9 +114,10 @@ class NativeVectorEnv(VectorEnv):
                 self._rngs[i], _ = seeding.np_random(seeds[i])
             extra = vinfo.gather(extra, self._batched.reset(int(i), self._rngs[i]), i, n)
         obs = self._fresh_obs(mask)
-        g2o, grasped = self._batched.reward_state()
-        info = vinfo.merge({}, vinfo.reset_info(self._success(obs), g2o, grasped, extra), mask)
-        self._was_grasped[mask] = grasped[mask]
+        quantities = self._inputs()
+        info = vinfo.merge({}, vinfo.reset_info(self._success(obs), quantities, self._at_rest, extra), mask)
+        for key, value in quantities.items():
+            self._before[key][mask] = value[mask]
         self._elapsed[mask] = 0
         self._autoreset[mask] = False
         self._needs_reset = False
@@ -147,15 +151,10 @@ class NativeVectorEnv(VectorEnv):
         if unstable.any():
             for key, value in obs.items():
                 value[unstable] = self._last_obs[key][unstable]
-        g2o, grasped = self._batched.reward_state()
-        step_g2o = np.where(unstable, 0.0, g2o)
-        step_grasped = np.where(unstable, 0.0, grasped)
-        ctx = {
-            "grip_to_object": step_g2o,
-            "grasped": step_grasped,
-            "dropped": ((self._was_grasped > 0.5) & (step_grasped < 0.5)).astype(np.float64),
-            "action_sq": squared_norms(a),
-        }
+        quantities = self._inputs()
+        # A diverged simulator's quantities read 0, as in the single env.
+        stepped = {k: np.where(unstable, 0.0, v) for k, v in quantities.items()}
+        ctx = {**stepped, **self._terms.events_between(self._before, stepped), ACTION_SQ: squared_norms(a)}
         # Same dtype path as compute_reward (and the single env), so they agree bit for bit.
         distance = self.task.goal_distance(
             obs["achieved_goal"].astype(np.float64), obs["desired_goal"].astype(np.float64)
@@ -171,7 +170,7 @@ class NativeVectorEnv(VectorEnv):
         if self._max_steps is not None:
             truncated |= self._elapsed >= self._max_steps
         step_info = {**ctx, "sim_unstable": unstable, **diagnostics, "is_success": success, "reward_terms": terms}
-        self._was_grasped = np.where(resetting, grasped, step_grasped)
+        self._before = {k: np.where(resetting, quantities[k], stepped[k]) for k in quantities}
         self._elapsed[resetting] = 0  # the step after an episode's end reset it
         reward[resetting] = 0.0
         terminated &= stepping
@@ -188,14 +187,16 @@ class NativeVectorEnv(VectorEnv):
             self._sense(fresh, np.flatnonzero(done), ())
             for key, value in obs.items():
                 value[done] = fresh[key][done]
-            g2o, grasped = self._batched.reward_state()
-            self._was_grasped[done] = grasped[done]
+            quantities = self._inputs()
+            for key, value in quantities.items():
+                self._before[key][done] = value[done]
             self._elapsed[done] = 0
             resetting = done
             done = np.zeros(n, dtype=bool)
         info = vinfo.merge(info, step_info, ~resetting)
         if resetting.any():
-            info = vinfo.merge(info, vinfo.reset_info(self._success(obs), g2o, grasped, reset_extra), resetting)
+            reset_info = vinfo.reset_info(self._success(obs), quantities, self._at_rest, reset_extra)
+            info = vinfo.merge(info, reset_info, resetting)
         for key, value in obs.items():
             self._last_obs[key] = value.copy()
         self._autoreset = done
@@ -224,9 +225,10 @@ class NativeVectorEnv(VectorEnv):
         success = (distance < self._threshold).astype(np.float64)
         shape = np.shape(distance)
         if isinstance(info, Mapping):
-            ctx = {k: np.broadcast_to(np.asarray(info.get(k, 0.0), dtype=np.float64), shape) for k in INFO_KEYS}
+            keys = self._terms.info_keys
+            ctx = {k: np.broadcast_to(np.asarray(info.get(k, 0.0), dtype=np.float64), shape) for k in keys}
         else:
-            ctx = info_arrays(info, shape)
+            ctx = info_arrays(info, shape, self._terms.info_keys)
         return self.reward_spec.total(distance, success, ctx)
 
     def compute_terminated(self, achieved_goal, desired_goal, info) -> np.ndarray:
@@ -236,6 +238,11 @@ class NativeVectorEnv(VectorEnv):
     # ------------------------------------------------------------------ helpers
     def _validate(self, actions) -> np.ndarray:
         return checked_actions(actions, self._action_shape, self._action_rule)
+
+    def _inputs(self) -> dict[str, np.ndarray]:
+        """The term set's inputs of every env, from the batched backend's quantities."""
+        quantities = self._batched.quantities()
+        return {k: quantities[k] for k in self._terms.inputs}
 
     def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
         """The backend's observations where ``mask``, the last ones elsewhere."""

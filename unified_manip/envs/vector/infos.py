@@ -10,7 +10,7 @@ vector env's infos compare equal, key for key and dtype for dtype, with
 
 from __future__ import annotations
 
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -59,16 +59,17 @@ def objects(rows: Mapping[int, Any], num_envs: int) -> np.ndarray:
     return out
 
 
-def reset_info(success: np.ndarray, g2o: np.ndarray, grasped: np.ndarray, extra: Mapping[str, Any]) -> dict[str, Any]:
+def reset_info(
+    success: np.ndarray, quantities: Mapping[str, np.ndarray], at_rest: Sequence[str], extra: Mapping[str, Any]
+) -> dict[str, Any]:
     """The info entries of envs that start an episode, as the single env's ``reset`` gives
-    them: ``is_success`` (float64), the reward inputs at rest and no instability."""
+    them: ``is_success`` (float64), the task's quantities, the reward inputs that are 0 at
+    rest (``at_rest``: its events and ``action_sq``) and no instability."""
     n = len(success)
     return {
         "is_success": success,
-        "grip_to_object": g2o,
-        "grasped": grasped,
-        "dropped": np.zeros(n),
-        "action_sq": np.zeros(n),
+        **quantities,
+        **{k: np.zeros(n) for k in at_rest},
         "sim_unstable": np.zeros(n, dtype=bool),
         **extra,
     }

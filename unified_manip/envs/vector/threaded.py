@@ -2,7 +2,7 @@
 
 :class:`ThreadedBatch` runs, per env and on a :class:`~.pool.PhysicsPool` worker, exactly
 the calls the single env makes on its backend (``step``, ``unstable``, ``observation``,
-``achieved_goal``, ``desired_goal``, ``reward_state``, ``extra_info``), and writes the
+``achieved_goal``, ``desired_goal``, ``quantities``, ``extra_info``), and writes the
 results into row ``i`` of shared arrays. So it is the single env bit for bit by
 construction, and the physics of the N envs runs in parallel wherever the family's step
 spends its time in ``mj_step`` (which releases the GIL) rather than in Python.
@@ -39,8 +39,7 @@ class ThreadedBatch(BatchedBackend):
         self._num_threads = num_threads
         self._attach()
         self._unstable = np.zeros(n, dtype=bool)
-        self._g2o = np.zeros(n)
-        self._grasped = np.zeros(n)
+        self._quantities = {}
         self._step_info: list[dict[str, Any]] = [{} for _ in range(n)]
         self._actions = np.zeros((n, self.action_dim))
         self._obs: dict[str, np.ndarray] = {}
@@ -70,7 +69,7 @@ class ThreadedBatch(BatchedBackend):
         b = self._backends[i]
         diagnostics = b.step(self._actions[i])
         self._unstable[i] = b.unstable()
-        self._gather(i)  # in the single env's order: observation, reward state, extra info
+        self._gather(i)  # in the single env's order: observation, quantities, extra info
         self._step_info[i] = {**diagnostics, **b.extra_info()}
 
     def _gather(self, i: int) -> None:
@@ -85,7 +84,7 @@ class ThreadedBatch(BatchedBackend):
             if key not in self._obs:
                 self._obs[key] = np.zeros((self.num_envs,) + value.shape, dtype=value.dtype)
             self._obs[key][i] = value
-        self._g2o[i], self._grasped[i] = b.reward_state()
+        self._keep_quantities(i, b.quantities())
 
     def observations(self) -> dict[str, np.ndarray]:
         return {k: v.copy() for k, v in self._obs.items()}

@@ -32,6 +32,7 @@ from unified_manip.envs.tasks.arm4.scene import (
     SUBSTEPS,
 )
 from unified_manip.envs.tasks.contacts import touches_both
+from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 
 #: How the arm's scene is drawn: from the model's ``front`` camera, every geom group.
 SCENE = SceneOptions(camera="front")
@@ -202,13 +203,16 @@ class Arm4Backend(Backend):
     def desired_goal(self) -> np.ndarray:
         return self._goal.copy()
 
-    def reward_state(self) -> tuple[float, float]:
+    def quantities(self) -> dict[str, float]:
+        """``grip_to_object`` (grip site to cube, m) and ``grasped`` (both fingers touch the
+        cube); 0 and 0 on the reach scene (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
         if self.scene == "reach":
-            return 0.0, 0.0
+            return {GRIP_TO_OBJECT: 0.0, GRASPED: 0.0}
         d = self.data
         dist = math.dist(d.site_xpos[self._site], d.qpos[QPOS_CUBE_POS])
         # A grasp needs the cube between the fingers: skip the contact scan otherwise.
-        return dist, float(dist < GRASP_RADIUS and touches_both(d, self._obj_geom, *self._finger_geoms))
+        held = float(dist < GRASP_RADIUS and touches_both(d, self._obj_geom, *self._finger_geoms))
+        return {GRIP_TO_OBJECT: dist, GRASPED: held}
 
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:

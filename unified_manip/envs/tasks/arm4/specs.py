@@ -16,6 +16,7 @@ from unified_manip.envs.tasks.arm4.docs import (
     REACH_DOC,
 )
 from unified_manip.envs.tasks.arm4.policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _BACKEND = "unified_manip.envs.tasks.arm4.backend:Arm4Backend"
@@ -24,7 +25,7 @@ V0: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="arm4",
-        shaping=shaping,
+        terms=GRIPPER_TERM_SETS[term_set],
         make_backend=lazy(_BACKEND, scene=scene),
         controllers=CONTROLLERS,
         goal_dim=3,
@@ -36,7 +37,7 @@ V0: tuple[TaskSpec, ...] = tuple(
         render_fps=50,
         cameras=CAMERAS,
     )
-    for name, scene, shaping, steps, doc, policy in (
+    for name, scene, term_set, steps, doc, policy in (
         ("Arm4Reach", "reach", "reach", 50, REACH_DOC, reach_policy),
         ("Arm4Push", "push", "push", 100, PUSH_DOC, push_policy),
         ("Arm4PickAndPlace", "pick_and_place", "grasp", 100, PICK_AND_PLACE_DOC, pick_and_place_policy),

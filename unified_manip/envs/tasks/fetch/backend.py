@@ -30,6 +30,7 @@ from unified_manip.envs.tasks.fetch.scene import (
     OBJECT_GEOM,
     OBS_REL,
 )
+from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 from unified_manip.envs.tasks.upstream import UpstreamBackend
 
 #: How the scene is drawn: upstream's free camera, every geom group.
@@ -133,13 +134,16 @@ class FetchBackend(UpstreamBackend):
         default = obs_groups.OBJECT_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
         return default + obs_groups.JOINT_MODE_EXTRA if self._joint_obs else default
 
-    def reward_state(self) -> tuple[float, float]:
+    def quantities(self) -> dict[str, float]:
+        """``grip_to_object`` (grip site to cube, m) and ``grasped`` (both fingers touch the
+        cube); 0 and 0 without an object (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
         if not self.has_object:
-            return 0.0, 0.0
+            return {GRIP_TO_OBJECT: 0.0, GRASPED: 0.0}
         rel = self._obs["observation"][OBS_REL]  # object - grip, m
         dist = math.sqrt(float(rel @ rel))
         # Only a cube between the fingers can be held: skip the contact scan otherwise.
-        return dist, float(dist < GRASP_RADIUS and touches_both(self._up.data, self._obj_geom, *self._finger_geoms))
+        held = float(dist < GRASP_RADIUS and touches_both(self._up.data, self._obj_geom, *self._finger_geoms))
+        return {GRIP_TO_OBJECT: dist, GRASPED: held}
 
     # -------------------------------------------------------------- pickling
     def after_unpickle(self) -> None:

@@ -8,6 +8,7 @@ from unified_manip.envs.tasks.fetch.cameras import CAMERAS
 from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 from unified_manip.envs.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
 from unified_manip.envs.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _BACKEND = "unified_manip.envs.tasks.fetch.backend:FetchBackend"
@@ -20,7 +21,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=f"Fetch{name}",
         family="fetch",
-        shaping=shaping,
+        terms=GRIPPER_TERM_SETS[term_set],
         make_backend=lazy(
             _BACKEND, upstream_cls=_UPSTREAM.format(module=module, name=name), has_object=name != "Reach"
         ),
@@ -38,7 +39,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         # gymnasium-robotics registers its IDs when imported: "module:ID" imports it.
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:Fetch{name}-v4", disable_env_checker=True),
     )
-    for name, module, shaping, doc, policy, min_success in (
+    for name, module, term_set, doc, policy, min_success in (
         ("Reach", "reach", "reach", REACH_DOC, reach_policy, 0.9),
         ("Push", "push", "push", PUSH_DOC, push_policy, 0.9),
         ("Slide", "slide", "push", SLIDE_DOC, slide_policy, None),

@@ -16,6 +16,7 @@ from unified_manip.envs.controllers.ik import IKJoints
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
+from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
 from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
@@ -133,11 +134,14 @@ class RobosuiteBackend(Backend):
         rel = self.task.object_pos(self._up) - self.data.site_xpos[self._grip_site]
         return math.sqrt(float(rel @ rel))
 
-    def reward_state(self) -> tuple[float, float]:
+    def quantities(self) -> dict[str, float]:
+        """``grip_to_object`` (m) and ``grasped`` (robosuite's grasp check) of the task's
+        object (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
         dist = self.grip_to_object()
         if self._grasp_object is None or dist > GRASP_CHECK_RADIUS:  # skip the contact scan when far
-            return dist, 0.0
-        return dist, float(self._up._check_grasp(gripper=self._gripper, object_geoms=self._grasp_object))
+            return {GRIP_TO_OBJECT: dist, GRASPED: 0.0}
+        held = float(self._up._check_grasp(gripper=self._gripper, object_geoms=self._grasp_object))
+        return {GRIP_TO_OBJECT: dist, GRASPED: held}
 
     def extra_info(self) -> dict[str, Any]:
         return {"native_success": float(self._up._check_success()), "native_reward": float(self._reward)}

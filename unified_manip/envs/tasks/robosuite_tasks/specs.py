@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
@@ -23,7 +24,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="robosuite",
-        shaping=shaping,
+        terms=GRIPPER_TERM_SETS[term_set],
         make_backend=lazy(f"{_PACKAGE}.backend:RobosuiteBackend", task=name),
         controllers=CONTROLLERS,
         goal_dim=goal_dim,
@@ -39,7 +40,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         upstream_id=f"robosuite:{name}",
         make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native"),
     )
-    for name, shaping, goal_dim, steps, threshold, doc, policy, min_success in (
+    for name, term_set, goal_dim, steps, threshold, doc, policy, min_success in (
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
         ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, stack_policy, 0.8),
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),

@@ -12,6 +12,7 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
+from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 from unified_manip.envs.tasks.shadow_hand import observations as obs_groups
 from unified_manip.envs.tasks.shadow_hand.rig import HandRig
 from unified_manip.envs.tasks.upstream import UpstreamBackend
@@ -72,11 +73,12 @@ class HandBackend(UpstreamBackend):
     def default_observation(self) -> tuple[str, ...]:
         return obs_groups.BLOCK_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
 
-    def reward_state(self) -> tuple[float, float]:
-        """Block: (palm-to-block distance, 1 while the block is still on the hand, i.e.
-        its centre above z = 0.04 m, upstream's reset criterion)."""
+    def quantities(self) -> dict[str, float]:
+        """Block: ``grip_to_object``, the palm-to-block distance (m), and ``grasped``, 1
+        while the block is still on the hand, i.e. its centre above z = 0.04 m (upstream's
+        reset criterion); 0 and 0 on HandReach (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
         if not self.has_object:
-            return 0.0, 0.0
+            return {GRIP_TO_OBJECT: 0.0, GRASPED: 0.0}
         d = self._up.data
         obj = d.qpos[self._obj_q : self._obj_q + 3]
-        return math.dist(d.xpos[self._palm], obj), float(obj[2] > BLOCK_ON_HAND_Z)
+        return {GRIP_TO_OBJECT: math.dist(d.xpos[self._palm], obj), GRASPED: float(obj[2] > BLOCK_ON_HAND_Z)}

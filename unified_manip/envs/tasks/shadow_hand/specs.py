@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec, euclidean
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.shadow_hand.cameras import CAMERAS
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
@@ -19,8 +20,8 @@ SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=name,
         family="shadow_hand",
-        shaping=shaping,
-        make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", has_object=shaping != "reach"),
+        terms=GRIPPER_TERM_SETS[term_set],
+        make_backend=lazy(_BACKEND, upstream_cls=f"{_UPSTREAM}.{upstream}", has_object=term_set != "reach"),
         controllers=CONTROLLERS,
         goal_dim=goal_dim,
         max_episode_steps=steps,
@@ -33,7 +34,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         upstream_id=upstream_id,
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),
     )
-    for name, shaping, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
+    for name, term_set, upstream, upstream_id, goal_dim, steps, threshold, doc, distance in (
         ("HandReach", "reach", "reach:MujocoHandReachEnv", "HandReach-v3", 15, 50, 0.01, REACH_DOC, euclidean),
         (
             "HandManipulateBlock",
