@@ -54,7 +54,9 @@ def test_bad_input_is_one_line_and_exit_code_2():
     proc = run("list", "--doc", "UnifiedManip/Nope-v0", check=False)
     assert proc.returncode == 2
     assert len(proc.stderr.strip().splitlines()) == 1
-    assert "invalid choice: 'UnifiedManip/Nope-v0'" in proc.stderr
+    assert (
+        "argument --doc: unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0" in proc.stderr
+    )
     proc = run("speed", "--steps", "0", check=False)
     assert proc.returncode == 2
     assert proc.stderr.strip().endswith("expected a positive integer, got '0'")

@@ -290,7 +290,10 @@ def test_eval_in_another_action_mode_is_a_clear_error(trained_run):
             ["--algo", "dqn"],
             "argument --algo: invalid choice: 'dqn' (choose from 'ppo', 'sac', 'td3', 'sac_her', 'tqc_her', 'crossq_her', 'bc')",
         ),
-        (["--env", "UnifiedManip/Nope-v0"], "argument --env: invalid choice: 'UnifiedManip/Nope-v0'"),
+        (
+            ["--env", "UnifiedManip/Nope-v0"],
+            "argument --env: unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/",
+        ),
         (["--action-mode", "cartesian"], "argument --action-mode: invalid choice: 'cartesian'"),
         (["--reward-type", "shaped"], "argument --reward-type: invalid choice: 'shaped'"),
         (["--steps", "0"], "argument --steps: expected a positive integer, got '0'"),

@@ -14,6 +14,15 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+def task_id(value: str) -> str:
+    """One registered ID, checked by the registry (whose error lists the IDs, and any
+    family plugin that failed to load)."""
+    try:
+        return get_task(value).id
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
 def task_ids(value: str | None) -> list[str] | None:
     if value is None:
         return None

@@ -14,7 +14,7 @@ from typing import Callable
 from rich.console import Console
 from rich.table import Table
 
-from unified_manip.cli.args import env_kwarg, positive_int
+from unified_manip.cli.args import env_kwarg, positive_int, task_id
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.registry import TASKS
@@ -24,7 +24,7 @@ from unified_manip.envs.rewards import REWARD_TYPES
 def add_commands(sub) -> None:
     """Add ``collect``, ``replay`` and ``convert`` to the subparsers ``sub``."""
     p = sub.add_parser("collect", help="record a policy's episodes as a Minari dataset, with simulator states")
-    p.add_argument("--env", choices=list(TASKS), metavar="ID", help="registered task ID (with --all: only this task)")
+    p.add_argument("--env", type=task_id, metavar="ID", help="registered task ID (with --all: only this task)")
     p.add_argument(
         "--all",
         action="store_true",

@@ -9,7 +9,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.table import Table
 
-from unified_manip.cli.args import Parser, positive_int, task_ids
+from unified_manip.cli.args import Parser, positive_int, task_id, task_ids
 from unified_manip.cli.datasets import add_commands as add_dataset_commands
 from unified_manip.cli.runs import add_commands
 from unified_manip.envs.registry import TASKS
@@ -141,7 +141,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
 
     p = sub.add_parser("list", help="table of every registered ID")
-    p.add_argument("--doc", choices=list(TASKS), metavar="ID", help="print one task's documentation")
+    p.add_argument("--doc", type=task_id, metavar="ID", help="print one task's documentation")
     p.add_argument("--width", type=int, default=200, help="table width in characters")
     p.set_defaults(func=cmd_list)
 

@@ -10,10 +10,9 @@ import signal
 import sys
 from pathlib import Path
 
-from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_ids
+from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_id, task_ids
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
-from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
 from unified_manip.training.algorithms import ALGOS
@@ -23,7 +22,7 @@ from unified_manip.training.devices import DEVICES
 def add_commands(sub) -> None:
     """Add ``train``, ``eval``, ``bench``, ``report`` and ``plot`` to the subparsers ``sub``."""
     p = sub.add_parser("train", help="train a Stable-Baselines3 baseline on one task")
-    p.add_argument("--env", required=True, choices=list(TASKS), metavar="ID", help="registered task ID")
+    p.add_argument("--env", required=True, type=task_id, metavar="ID", help="registered task ID")
     p.add_argument("--action-mode", default="native", choices=ACTION_MODES)
     p.add_argument("--reward-type", default="sparse", choices=REWARD_TYPES)
     p.add_argument("--algo", required=True, choices=list(ALGOS))

@@ -1,7 +1,7 @@
 """One episode as it is played and stored: observations, actions, rewards, flags, infos
 and the simulator state of every step, turned into a Minari ``EpisodeBuffer``.
 
-The infos hold every numeric entry the env returns (``is_success``, ``grip_to_object``,
+The infos hold every numeric entry the env returns (``is_success``, the task's reward inputs,
 the action mode's diagnostics, ``reward_terms`` as a nested group) plus ``state``, the
 simulator's full physics state (:meth:`~unified_manip.envs.backend.Backend.get_state`).
 Like the observations they have one row per step plus one for the reset; an entry that

@@ -135,6 +135,9 @@ class TaskSpec:
 #: Every registered task, by ID, in registration order.
 TASKS: dict[str, TaskSpec] = {}
 
+#: One line per family plugin that failed to load (:mod:`unified_manip.envs.families`).
+PLUGIN_FAILURES: list[str] = []
+
 
 #: Gymnasium calls every version below an ID's highest "out of date". Here a higher version
 #: is a variant beside the old one (Arm4Push-v1 beside the design document's v0), never
@@ -164,4 +167,5 @@ def get_task(task_id: str) -> TaskSpec:
     try:
         return TASKS[task_id]
     except KeyError:
-        raise ValueError(f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}") from None
+        failed = "".join(f"; {line}" for line in PLUGIN_FAILURES)
+        raise ValueError(f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}{failed}") from None

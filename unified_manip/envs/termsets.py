@@ -68,6 +68,8 @@ class TermSet:
         dense: The terms of the ``dense`` design, from the reward config.
         events: Inputs derived from the last step's and this step's inputs (0 at reset).
         penalties: The terms ``dense_penalized`` adds to ``dense``.
+        ranges: Each input's and event's ``(low, high)``, where not ``(0, 1)``: what the
+            dense-reward sanity check (``unified-manip report``) sweeps.
         doc: One line on what the terms reward, for the task pages.
     """
 
@@ -76,6 +78,7 @@ class TermSet:
     dense: Callable[[RewardConfig], tuple[Term, ...]]
     events: tuple[Event, ...] = ()
     penalties: Callable[[RewardConfig], tuple[Term, ...]] = _no_terms
+    ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     doc: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -85,6 +88,12 @@ class TermSet:
         bad = [e for e in self.events if not isinstance(e, Event)]
         if bad:
             raise TypeError(f"term set {self.name!r}: events must be Event instances, got {bad!r}")
+        unknown = sorted(set(self.ranges) - set(names[:-1]))
+        if unknown:
+            raise ValueError(f"term set {self.name!r}: ranges of unknown inputs {unknown}; expected from {names[:-1]}")
+        inverted = sorted(k for k, (low, high) in self.ranges.items() if not low <= high)
+        if inverted:
+            raise ValueError(f"term set {self.name!r}: ranges {inverted} have low > high")
 
     @property
     def info_keys(self) -> tuple[str, ...]:
@@ -99,6 +108,10 @@ class TermSet:
             return RewardSpec("sparse", sparse_terms(config))
         dense = self.dense(config)
         return RewardSpec(reward_type, dense + self.penalties(config) if reward_type == "dense_penalized" else dense)
+
+    def input_range(self, name: str) -> tuple[float, float]:
+        """``(low, high)`` of an input or event (``(0, 1)`` unless :attr:`ranges` says otherwise)."""
+        return self.ranges.get(name, (0.0, 1.0))
 
     def events_at_rest(self) -> dict[str, float]:
         """The events' values at reset: 0."""

@@ -213,8 +213,8 @@ def build_report(
         lines += ["## Dense-reward sanity check", ""]
         lines += [
             "For each task, goals from seeded resets and achieved goals sampled at distances from 0 to 20 "
-            "success thresholds, with the most and least favourable values of the other reward inputs "
-            "(grasped, gripper distance, action, drop). A dense reward is flagged if its best value outside "
+            "success thresholds, with every combination of the ends of the task's other reward inputs "
+            "(a gripper's distance and grasp, the action, a drop). A dense reward is flagged if its best value outside "
             "the success region reaches its best value inside it.",
             "",
             "| task | reward | max inside success | max outside success | optimum in success region | flag |",

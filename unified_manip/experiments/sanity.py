@@ -3,20 +3,22 @@
 Rewards here are functions of ``(achieved_goal, desired_goal, info)``, so the check
 needs no simulator states: desired goals come from seeded resets, achieved goals are
 placed at distances from 0 to 20 success thresholds in random directions, and the goal-
-independent inputs (``grasped``, ``grip_to_object``, ``action_sq``, ``dropped``) take
-their most and least favourable values. The reward is evaluated with the env's own
+independent inputs (the task's term set's ``info_keys``) take every combination of their
+ends (``TermSet.input_range``; ``action_sq`` from 0 to the action's size). The reward is evaluated with the env's own
 batched ``compute_reward``. A reward whose best value outside the success region reaches
 its best value inside it is flagged: an agent maximising it need not succeed.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import gymnasium as gym
 import numpy as np
 
 from unified_manip.envs.registry import get_task
+from unified_manip.envs.termsets import ACTION_SQ
 
 
 @dataclass(frozen=True)
@@ -76,13 +78,13 @@ def dense_reward_check(
     n = len(ag)
     distance = spec.goal_distance(ag, dg)
     inside = distance < spec.distance_threshold
-    best, worst = [], []
-    for grasped, grip, action, dropped in ((1.0, 0.0, 0.0, 0.0), (0.0, 0.5, 4.0, 1.0)):
-        infos = np.array(
-            [{"grasped": grasped, "grip_to_object": grip, "action_sq": action, "dropped": dropped}] * n, dtype=object
-        )
-        (best if grasped else worst).append(env.unwrapped.compute_reward(ag, dg, infos))
-    rewards = np.maximum(best[0], worst[0])
+    terms = spec.terms
+    ends = {k: terms.input_range(k) for k in terms.info_keys if k != ACTION_SQ}
+    ends[ACTION_SQ] = (0.0, float(env.action_space.shape[0]))
+    rewards = np.full(n, -np.inf)
+    for corner in itertools.product(*ends.values()):
+        infos = np.array([dict(zip(ends, corner))] * n, dtype=object)
+        rewards = np.maximum(rewards, env.unwrapped.compute_reward(ag, dg, infos))
     env.close()
     return DenseCheck(
         task_id,

@@ -4,15 +4,19 @@ This folder is installed as ``unified_manip.envs.tasks``. Each family package
 (``arm4``, ``fetch``, ``shadow_hand``, ``robosuite_tasks``) defines ``SPECS``, its
 :class:`~unified_manip.envs.registry.TaskSpec` tuple, without importing its simulator: a
 spec names its backend lazily, so the simulator is imported by the first ``gym.make``
-of one of the family's IDs. To add a family, add a package with a
-:class:`unified_manip.envs.backend.Backend` and its ``SPECS``, and list it below.
+of one of the family's IDs. A family in another package registers through the
+``unified_manip.families`` entry point (:mod:`unified_manip.envs.families`), after these.
 """
 
+from unified_manip.envs.families import load_plugin_families
 from unified_manip.envs.registry import register_task
 from unified_manip.envs.tasks import arm4, fetch, robosuite_tasks, shadow_hand
 
-#: The families, in registration order (the order ``unified-manip list`` shows).
+#: The built-in families, in registration order (the order ``unified-manip list`` shows).
 FAMILIES = (arm4, fetch, shadow_hand, robosuite_tasks)
 
 for _spec in (spec for family in FAMILIES for spec in family.SPECS):
     register_task(_spec)
+
+#: The IDs the installed family plugins added.
+PLUGIN_IDS = load_plugin_families(register_task)

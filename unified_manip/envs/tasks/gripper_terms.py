@@ -85,6 +85,8 @@ def _object_penalties(config: RewardConfig) -> tuple[Term, ...]:
 
 _INPUTS = (GRIP_TO_OBJECT, GRASPED)
 _EVENTS = (Event(DROPPED, LetGo(GRASPED)),)
+#: Half a metre: farther than any gripper starts from its object.
+_RANGES = {GRIP_TO_OBJECT: (0.0, 0.5)}
 
 REACH = TermSet(
     "reach",
@@ -92,6 +94,7 @@ REACH = TermSet(
     _reach_dense,
     _EVENTS,
     _reach_penalties,
+    _RANGES,
     doc="reach = 1 - tanh(g d) and a success bonus; no object",
 )
 PUSH = TermSet(
@@ -100,6 +103,7 @@ PUSH = TermSet(
     _push_dense,
     _EVENTS,
     _object_penalties,
+    _RANGES,
     doc="reach = 1 - tanh(g |grip - object|), place = 1 - tanh(g d), a success bonus",
 )
 GRASP = TermSet(
@@ -108,6 +112,7 @@ GRASP = TermSet(
     _grasp_dense,
     _EVENTS,
     _object_penalties,
+    _RANGES,
     doc="as push, with place multiplied by grasped",
 )
 
