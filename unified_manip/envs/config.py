@@ -55,6 +55,9 @@ class EnvConfig:
             shaped terms and a success bonus) or ``"dense_penalized"`` (dense plus the
             task's penalties).
         terminate_on_success: End the episode with ``terminated=True`` on success.
+        terminate_on: The task's other termination conditions to switch on, by name
+            (its term set's ``terminations``, e.g. ``("dropped",)`` on the gripper tasks
+            with an object); none by default.
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width in pixels of ``rgb_array`` frames.
         render_height: Height in pixels of ``rgb_array`` frames.
@@ -86,6 +89,7 @@ class EnvConfig:
     action_mode: str = "native"
     reward_type: str = "sparse"
     terminate_on_success: bool = False
+    terminate_on: tuple[str, ...] = ()
     render_mode: str | None = None
     render_width: int = 480
     render_height: int = 480
@@ -113,6 +117,9 @@ class EnvConfig:
             )
         if not isinstance(self.terminate_on_success, bool):
             raise TypeError(f"terminate_on_success must be a bool, got {type(self.terminate_on_success).__name__}")
+        if isinstance(self.terminate_on, str) or not all(isinstance(n, str) for n in self.terminate_on):
+            raise TypeError(f"terminate_on must be a sequence of termination names, got {self.terminate_on!r}")
+        object.__setattr__(self, "terminate_on", tuple(self.terminate_on))
         if self.controller_options is None:
             object.__setattr__(self, "controller_options", {})
         if not isinstance(self.controller_options, Mapping) or not all(

@@ -30,6 +30,7 @@ class UnifiedManipEnv(GoalEnv):
         action_mode: See :data:`unified_manip.envs.config.ACTION_MODES`.
         reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
         terminate_on_success: End the episode (``terminated=True``) on success.
+        terminate_on: The task's other termination conditions to switch on, by name.
         render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
         render_width: Width of ``rgb_array`` frames in pixels.
         render_height: Height of ``rgb_array`` frames in pixels.
@@ -70,6 +71,7 @@ class UnifiedManipEnv(GoalEnv):
         self.metadata = {**self.metadata, "render_fps": self.task.render_fps}
         self._terms = self.task.terms
         self.reward_spec = self.config.reward_design(self._terms)
+        self._terminations = self._terms.check_terminations(self.config.terminate_on, self.task.id)
         self._threshold = self.task.distance_threshold
         self._backend = setup.build_backend()
 
@@ -146,7 +148,9 @@ class UnifiedManipEnv(GoalEnv):
         reward = float(sum(terms.values()))
         info["is_success"] = success
         info["reward_terms"] = reward_terms
-        terminated = bool(self.config.terminate_on_success and success > 0.5)
+        terminated = bool(self.config.terminate_on_success and success > 0.5) or any(
+            bool(t.fn(info)) for t in self._terminations
+        )
         if self.render_mode == "human":
             self.render()
         return obs, reward, terminated, unstable, info
@@ -215,9 +219,15 @@ class UnifiedManipEnv(GoalEnv):
         return spec.raw_batch(distance, success, ctx) if raw else spec.terms_batch(distance, success, ctx)
 
     def compute_terminated(self, achieved_goal, desired_goal, info):
-        """True on success when ``terminate_on_success`` is set, else False."""
+        """True on success when ``terminate_on_success`` is set, or where a switched-on
+        termination holds (read from ``info``, as ``compute_reward`` reads it)."""
         distance = self.task.goal_distance(achieved_goal, desired_goal)
-        return np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+        ended = np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+        if self._terminations:
+            ctx = info_arrays(info, np.shape(distance), self._terms.info_keys)
+            for t in self._terminations:
+                ended = np.logical_or(ended, t.fn(ctx))
+        return ended
 
     def compute_truncated(self, achieved_goal, desired_goal, info):
         """Always False here: the time limit is applied by ``gym.make``'s TimeLimit."""

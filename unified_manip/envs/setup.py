@@ -60,6 +60,7 @@ def env_setup(task_id: str, **kwargs: Any) -> EnvSetup:
     fields = {k: kwargs.pop(k) for k in CONFIG_FIELDS if k in kwargs}
     config = EnvConfig(**fields, options=kwargs)
     config.require_supported(task.id, task.action_modes)
+    task.terms.check_terminations(config.terminate_on, task.id)
     if config.camera is not None:
         resolve_camera(config.camera, task.cameras, task.id)
     return EnvSetup(task, config, config.mode_config(task.controllers))

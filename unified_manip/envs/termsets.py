@@ -11,7 +11,10 @@ The shared env knows no task vocabulary. A task declares, in one
 * ``events``: quantities derived from the last step's inputs and this step's (an object
   let go), each an :class:`Event`;
 * ``dense`` and ``penalties``: the terms of the ``dense`` design and the ones
-  ``dense_penalized`` adds, built from the :class:`~unified_manip.envs.rewards.RewardConfig`.
+  ``dense_penalized`` adds, built from the :class:`~unified_manip.envs.rewards.RewardConfig`;
+* ``terminations``: the conditions besides success that may end an episode
+  (:class:`Termination`), each switched on by name with ``gym.make(..., terminate_on=...)``.
+  Success ends one with ``terminate_on_success``; a diverged simulator always truncates it.
 
 Every design also reads ``action_sq``, the squared norm of the clipped action, which the
 env computes itself. A term is a function of ``(distance, success, ctx)``, where ``ctx``
@@ -53,6 +56,22 @@ class Event:
     fn: EventFn
 
 
+@dataclass(frozen=True)
+class Termination:
+    """A condition that ends the episode (``terminated=True``) when switched on.
+
+    Attributes:
+        name: What ``terminate_on`` calls it.
+        fn: ``ctx -> bool array``: reads the reward inputs (``TermSet.info_keys``) of one
+            step, as arrays of one shape, and says where the episode ends. Picklable.
+        doc: One line for the task pages.
+    """
+
+    name: str
+    fn: Callable[[Mapping[str, np.ndarray]], np.ndarray]
+    doc: str = field(default="", compare=False)
+
+
 def _no_terms(config: RewardConfig) -> tuple[Term, ...]:
     return ()
 
@@ -70,6 +89,7 @@ class TermSet:
         penalties: The terms ``dense_penalized`` adds to ``dense``.
         ranges: Each input's and event's ``(low, high)``, where not ``(0, 1)``: what the
             dense-reward sanity check (``unified-manip report``) sweeps.
+        terminations: The conditions ``terminate_on`` may switch on.
         doc: One line on what the terms reward, for the task pages.
     """
 
@@ -79,6 +99,7 @@ class TermSet:
     events: tuple[Event, ...] = ()
     penalties: Callable[[RewardConfig], tuple[Term, ...]] = _no_terms
     ranges: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    terminations: tuple[Termination, ...] = ()
     doc: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -94,6 +115,17 @@ class TermSet:
         inverted = sorted(k for k, (low, high) in self.ranges.items() if not low <= high)
         if inverted:
             raise ValueError(f"term set {self.name!r}: ranges {inverted} have low > high")
+        if any(not isinstance(t, Termination) for t in self.terminations):
+            raise TypeError(f"term set {self.name!r}: terminations must be Termination instances")
+
+    def check_terminations(self, names: tuple[str, ...], task_id: str) -> tuple[Termination, ...]:
+        """The terminations ``names`` (``terminate_on``), or ``ValueError`` naming the valid ones."""
+        known = {t.name: t for t in self.terminations}
+        unknown = [n for n in names if n not in known]
+        if unknown:
+            choices = ", ".join(repr(n) for n in known) or "none"
+            raise ValueError(f"{task_id} has no termination {unknown[0]!r}; terminate_on takes {choices}")
+        return tuple(known[n] for n in names)
 
     @property
     def info_keys(self) -> tuple[str, ...]:

@@ -30,7 +30,7 @@ from typing import Mapping
 import numpy as np
 
 from unified_manip.envs.rewards import RewardConfig, Shaped, Term, action_penalty, success_bonus
-from unified_manip.envs.termsets import Event, TermSet
+from unified_manip.envs.termsets import Event, Termination, TermSet
 
 GRIP_TO_OBJECT = "grip_to_object"
 GRASPED = "grasped"
@@ -45,6 +45,11 @@ class LetGo:
 
     def __call__(self, before: Mapping[str, np.ndarray], now: Mapping[str, np.ndarray]) -> np.ndarray:
         return np.logical_and(np.greater(before[self.of], 0.5), np.less(now[self.of], 0.5)).astype(np.float64)
+
+
+def was_dropped(ctx: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Where a held object was let go this step."""
+    return np.greater(ctx[DROPPED], 0.5)
 
 
 def drop_penalty(distance, success, ctx):
@@ -87,6 +92,7 @@ _INPUTS = (GRIP_TO_OBJECT, GRASPED)
 _EVENTS = (Event(DROPPED, LetGo(GRASPED)),)
 #: Half a metre: farther than any gripper starts from its object.
 _RANGES = {GRIP_TO_OBJECT: (0.0, 0.5)}
+_DROP = (Termination(DROPPED, was_dropped, doc="a held object was let go"),)
 
 REACH = TermSet(
     "reach",
@@ -104,6 +110,7 @@ PUSH = TermSet(
     _EVENTS,
     _object_penalties,
     _RANGES,
+    _DROP,
     doc="reach = 1 - tanh(g |grip - object|), place = 1 - tanh(g d), a success bonus",
 )
 GRASP = TermSet(
@@ -113,6 +120,7 @@ GRASP = TermSet(
     _EVENTS,
     _object_penalties,
     _RANGES,
+    _DROP,
     doc="as push, with place multiplied by grasped",
 )
 

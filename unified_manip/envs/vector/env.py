@@ -67,6 +67,7 @@ class NativeVectorEnv(VectorEnv):
         self._terms = terms = self.task.terms
         self.reward_spec = config.reward_design(terms)
         self._at_rest = tuple(k for k in terms.info_keys if k not in terms.inputs)
+        self._terminations = terms.check_terminations(config.terminate_on, self._task_id)
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched
@@ -165,6 +166,8 @@ class NativeVectorEnv(VectorEnv):
         for value in terms.values():
             reward = reward + value
         terminated = (success > 0.5) & self.config.terminate_on_success
+        for termination in self._terminations:
+            terminated |= termination.fn(ctx)
         self._elapsed[stepping] += 1
         truncated = unstable.copy()
         if self._max_steps is not None:
@@ -223,17 +226,24 @@ class NativeVectorEnv(VectorEnv):
         desired_goal = np.asarray(desired_goal, dtype=np.float64)
         distance = self.task.goal_distance(achieved_goal, desired_goal)
         success = (distance < self._threshold).astype(np.float64)
-        shape = np.shape(distance)
-        if isinstance(info, Mapping):
-            keys = self._terms.info_keys
-            ctx = {k: np.broadcast_to(np.asarray(info.get(k, 0.0), dtype=np.float64), shape) for k in keys}
-        else:
-            ctx = info_arrays(info, shape, self._terms.info_keys)
-        return self.reward_spec.total(distance, success, ctx)
+        return self.reward_spec.total(distance, success, self._ctx(info, np.shape(distance)))
 
     def compute_terminated(self, achieved_goal, desired_goal, info) -> np.ndarray:
         distance = self.task.goal_distance(achieved_goal, desired_goal)
-        return np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+        ended = np.logical_and(self.config.terminate_on_success, distance < self._threshold)
+        if self._terminations:
+            ctx = self._ctx(info, np.shape(distance))
+            for termination in self._terminations:
+                ended = np.logical_or(ended, termination.fn(ctx))
+        return ended
+
+    def _ctx(self, info, shape: tuple[int, ...]) -> dict[str, np.ndarray]:
+        """The reward inputs of ``info``: this env's info (a dict of arrays), one single-env
+        info dict, or a sequence / object array of them."""
+        keys = self._terms.info_keys
+        if isinstance(info, Mapping):
+            return {k: np.broadcast_to(np.asarray(info.get(k, 0.0), dtype=np.float64), shape) for k in keys}
+        return info_arrays(info, shape, keys)
 
     # ------------------------------------------------------------------ helpers
     def _validate(self, actions) -> np.ndarray:
