@@ -19,7 +19,7 @@ Every reward is a sum of terms. A term is a pure function of
 The designs (``reward_type``):
 
 * ``sparse``: ``success - 1``, i.e. 0 on success and -1 otherwise.
-* ``dense``: the design document's phased shaping. ``reach = 1 - tanh(5 d_reach)``
+* ``dense``: phased shaping (reach, then place, then a bonus). ``reach = 1 - tanh(5 d_reach)``
   where ``d_reach`` is the gripper-object distance (or the goal distance on tasks
   without an object); ``place = 5 * gate * (1 - tanh(5 d_goal))`` where ``gate`` is
   ``grasped`` on tasks that need a grasp and 1 on tasks that push; ``success = 10``
