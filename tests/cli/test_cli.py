@@ -45,6 +45,25 @@ def test_every_help_reads_as_plain_text():
         assert "``" not in text and not re.search(r":(class|func|mod|meth):", text), args
 
 
+def test_every_option_of_every_subcommand_has_help():
+    import argparse
+
+    from unified_manip.cli.main import build_parser
+
+    missing = []
+
+    def walk(parser: argparse.ArgumentParser, path: list[str]) -> None:
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    walk(sub, [*path, name])
+            elif not action.help and not isinstance(action, argparse._HelpAction):
+                missing.append(" ".join([*path, *(action.option_strings or [action.dest])]))
+
+    walk(build_parser(), ["unified-manip"])
+    assert not missing, f"options without a help text: {missing}"
+
+
 def test_list_doc_prints_the_task_documentation():
     out = run("list", "--doc", "UnifiedManip/Arm4PickAndPlace-v0").stdout
     assert "Observation (34,)" in out and "Success" in out

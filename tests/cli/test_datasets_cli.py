@@ -7,10 +7,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import signal
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import h5py
@@ -368,25 +364,28 @@ def test_a_damaged_dataset_is_refused_in_one_line(arm_dataset, damage, tmp_path,
     assert err.count("\n") == 1
 
 
-def test_ctrl_c_during_collect_leaves_no_dataset(tmp_path):
-    out = tmp_path / "big-v0"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "unified_manip.cli", "collect", "--env", "UnifiedManip/Arm4Reach-v0"]
-        + ["--episodes", "100000", "--out", str(out)],
-        stderr=subprocess.PIPE,
-        text=True,
-        # Ctrl-C's default, even where this suite runs as a background job (which starts
-        # with SIGINT ignored, and Python then installs no KeyboardInterrupt handler).
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
-    )
-    seen = ""
-    deadline = time.monotonic() + 120
-    while "episode" not in seen and time.monotonic() < deadline:  # the progress bar has started
-        seen += proc.stderr.read(1)
-    proc.send_signal(signal.SIGINT)
-    proc.communicate(timeout=60)
-    assert proc.returncode != 0
-    assert os.listdir(tmp_path) == []
+def test_a_dataset_combined_by_minari_is_refused_in_one_line(arm_dataset, tmp_path, capsys, monkeypatch):
+    import minari
+
+    from unified_manip.datasets.store import open_dataset
+
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path))
+    dataset = open_dataset(arm_dataset)
+    combined = minari.combine_datasets([dataset, dataset], "arm-combined-v0")
+    path = Path(combined.storage.data_path).parent
+    assert combined.total_episodes == 4  # Minari copied the episodes, but not what replays them
+    for command in (
+        ["replay", str(path)],
+        ["convert", str(path), "--action-mode", "joint_delta", "--out", str(tmp_path / "c-v0")],
+    ):
+        code, out, err = run_cli([*command, "--no-progress"], capsys)
+        assert code == 2 and out == ""
+        assert err == (
+            f"unified-manip {command[0]}: error: {path} was made by minari.combine_datasets, which keeps neither "
+            "each episode's reset seed nor unified_manip's 'unified_manip' metadata, so its episodes cannot be "
+            "replayed or converted; record them into one dataset with a single collect (--episodes N) instead\n"
+        )
+    assert not (tmp_path / "c-v0").exists()
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import json
 import sys
 from pathlib import Path
 from typing import Callable
@@ -15,6 +14,7 @@ from rich.console import Console
 from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int, task_id
+from unified_manip.cli.output import write_json
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.registry import TASKS
@@ -68,7 +68,7 @@ def add_commands(sub) -> None:
 
     p = sub.add_parser("convert", help="re-execute a dataset's episodes in another action mode")
     p.add_argument("dataset", help="dataset directory (written by collect or convert)")
-    p.add_argument("--action-mode", required=True, choices=ACTION_MODES)
+    p.add_argument("--action-mode", required=True, choices=ACTION_MODES, help="the action mode to convert into")
     p.add_argument("--out", required=True, help="new dataset directory ROOT/NAME-vN")
     p.add_argument(
         "--observation",
@@ -158,7 +158,7 @@ def cmd_collect(args: argparse.Namespace) -> int:
         f"(success rate {result.success_rate:.2f}{dropped})"
     )
     if args.json:
-        Path(args.json).write_text(json.dumps(result.as_dict(), indent=2))
+        write_json(args.json, result.as_dict())
     return 0
 
 
@@ -190,7 +190,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if args.video:
         print(f"wrote {args.video}")
     if args.json:
-        Path(args.json).write_text(json.dumps(report.as_dict(), indent=2))
+        write_json(args.json, report.as_dict())
     return 0 if report.exact else 1
 
 
@@ -222,7 +222,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
     n = len(report.episodes)
     print(f"converted success {report.success_rate:.2f} ({sum(e.success_converted for e in report.episodes)}/{n})")
     if args.json:
-        Path(args.json).write_text(json.dumps(report.as_dict(), indent=2))
+        write_json(args.json, report.as_dict())
     if report.out is None:
         print("no dataset written: no episode kept (--keep-failed keeps the failed ones)", file=sys.stderr)
         return 1

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import json
+import sys
 from pathlib import Path
 
 from rich.console import Console
@@ -11,6 +11,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import Parser, positive_int, task_id, task_ids
 from unified_manip.cli.datasets import add_commands as add_dataset_commands
+from unified_manip.cli.output import write_json
 from unified_manip.cli.runs import add_commands
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
@@ -111,7 +112,7 @@ def cmd_speed(args: argparse.Namespace) -> int:
         console.print(tr)
         document["training"] = [r.as_dict() for r in rows]
     if args.json:
-        Path(args.json).write_text(json.dumps(document, indent=2))
+        write_json(args.json, document)
     return 0
 
 
@@ -154,7 +155,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--train", type=task_ids, help="also time SAC+HER training on these IDs against their upstream envs")
     p.add_argument("--train-steps", type=positive_int, default=1500, help="training steps per timed round")
     p.add_argument("--json", help="also write the results to this JSON file")
-    p.add_argument("--width", type=int, default=200)
+    p.add_argument("--width", type=int, default=200, help="table width in characters")
     p.set_defaults(func=cmd_speed)
 
     add_commands(sub)  # train, eval, bench, report, plot
@@ -163,7 +164,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
     p.add_argument("--out", default="demo.png", help="output PNG")
     p.add_argument("--env", type=task_ids, help="comma-separated IDs (default: all with a scripted policy)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="reset seed of every task's episode")
     p.add_argument("--frames", type=positive_int, default=6, help="pictures per task")
     p.add_argument("--size", type=positive_int, default=200, help="picture size in pixels")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (on stderr), as train and bench")
@@ -188,6 +189,17 @@ COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    try:
+        return _run(parser, args)
+    except KeyboardInterrupt:
+        # Ctrl-C: one line and the shell's status for SIGINT. Every file a command writes is
+        # written whole or not at all (datasets, checkpoints, results, reports, videos, JSON),
+        # so what an interrupted command leaves reads as it did before, or is complete.
+        print(f"unified-manip {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     extras = COMMAND_EXTRAS.get(args.command, ()) + (("ray",) if getattr(args, "executor", None) == "ray" else ())
     try:
         require(*extras, what=f"unified-manip {args.command}")

@@ -4,13 +4,13 @@
 from __future__ import annotations
 
 import argparse
-import json
 import shlex
 import signal
 import sys
 from pathlib import Path
 
 from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_id, task_ids
+from unified_manip.cli.output import write_json
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.rewards import REWARD_TYPES
@@ -23,11 +23,13 @@ def add_commands(sub) -> None:
     """Add ``train``, ``eval``, ``bench``, ``report`` and ``plot`` to the subparsers ``sub``."""
     p = sub.add_parser("train", help="train a Stable-Baselines3 baseline on one task")
     p.add_argument("--env", required=True, type=task_id, metavar="ID", help="registered task ID")
-    p.add_argument("--action-mode", default="native", choices=ACTION_MODES)
-    p.add_argument("--reward-type", default="sparse", choices=REWARD_TYPES)
-    p.add_argument("--algo", required=True, choices=list(ALGOS))
+    p.add_argument("--action-mode", default="native", choices=ACTION_MODES, help="how actions drive the robot")
+    p.add_argument("--reward-type", default="sparse", choices=REWARD_TYPES, help="the reward design")
+    p.add_argument(
+        "--algo", required=True, choices=list(ALGOS), help="algorithm; its defaults come from baselines/<algo>.yaml"
+    )
     p.add_argument("--steps", type=positive_int, required=True, help="total environment steps")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="seed of the run: networks, exploration and env resets")
     p.add_argument(
         "--n-envs",
         type=positive_int,
@@ -76,7 +78,7 @@ def add_commands(sub) -> None:
 
     p = sub.add_parser("eval", help="evaluate a trained run: success rate with a 95%% CI, mean return, video")
     p.add_argument("target", help="run directory, or a model .zip inside one")
-    p.add_argument("--episodes", type=positive_int, default=50)
+    p.add_argument("--episodes", type=positive_int, default=50, help="evaluation episodes")
     p.add_argument("--action-mode", choices=ACTION_MODES, help="default: the run's own (a different one is an error)")
     p.add_argument("--reward-type", choices=REWARD_TYPES, help="default: the run's own")
     p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
@@ -96,7 +98,9 @@ def add_commands(sub) -> None:
     p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
     p.add_argument("grid", help="grid YAML file, e.g. baselines/grids/action_spaces.yaml")
     p.add_argument("--out", help="bench directory (default: results/<grid name>)")
-    p.add_argument("--executor", choices=("local", "ray"), default="local")
+    p.add_argument(
+        "--executor", choices=("local", "ray"), default="local", help="local: a process pool; ray: a Ray cluster"
+    )
     p.add_argument("--address", help="Ray cluster address (with --executor ray); default: start a local Ray")
     p.add_argument("--workers", type=positive_int, help="runs at a time (default: CPU cores)")
     p.add_argument("--retries", type=int, default=1, help="retries of a crashed run")
@@ -119,7 +123,7 @@ def add_commands(sub) -> None:
         help="start no run: write results.csv from the finished runs in --out (e.g. copied in from another "
         "bench directory)",
     )
-    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("report", help="Markdown + PNG report from a bench's results.csv")
@@ -133,9 +137,9 @@ def add_commands(sub) -> None:
     p.add_argument("bench", help="a bench's output directory (its runs/ with their final models)")
     p.add_argument("--noise", type=float, nargs="+", default=[0.0, 0.005, 0.01], help="noise stds (default 0 .005 .01)")
     p.add_argument("--delay", type=positive_int, nargs="*", default=[1], help="delays in steps (default 1)")
-    p.add_argument("--episodes", type=positive_int, default=50)
+    p.add_argument("--episodes", type=positive_int, default=50, help="evaluation episodes per run and condition")
     p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
-    p.add_argument("--no-progress", action="store_true")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_robustness)
 
     p = sub.add_parser(
@@ -203,7 +207,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
         f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
     )
     if args.json:
-        Path(args.json).write_text(json.dumps(result.as_dict(), indent=2))
+        write_json(args.json, result.as_dict())
     if args.video:
         print(f"wrote {args.video}")
     return 0

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.datasets import store, versions
+from unified_manip.envs.video import write_video
 
 
 @dataclass(frozen=True)
@@ -119,16 +120,3 @@ def _replay_episode(env, ep, seed: int, from_actions: bool, frames: list | None)
         success_recorded=bool(ep.infos["is_success"][-1] > 0.5),
         success_replayed=bool(info.get("is_success", 0.0) > 0.5),
     )
-
-
-def write_video(path: Path, frames: list[np.ndarray], fps: int) -> None:
-    """MP4 (via imageio-ffmpeg) or GIF, chosen by the suffix of ``path``."""
-    import imageio.v3 as iio
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.partial{path.suffix}")
-    if path.suffix.lower() == ".gif":
-        iio.imwrite(tmp, np.stack(frames), duration=1000 / fps, loop=0)
-    else:
-        iio.imwrite(tmp, np.stack(frames), fps=fps, codec="libx264", macro_block_size=1)
-    tmp.replace(path)

@@ -105,6 +105,12 @@ def open_dataset(path: Path):
         dataset = minari.MinariDataset(data)
     except Exception as err:  # Minari raises several kinds for a bad metadata file
         raise DatasetError(f"{path} is not a readable dataset: {_one_line(err)}") from None
+    if KEY not in dataset.storage.metadata and "combined_datasets" in dataset.storage.metadata:
+        raise DatasetError(
+            f"{path} was made by minari.combine_datasets, which keeps neither each episode's reset seed nor "
+            f"unified_manip's {KEY!r} metadata, so its episodes cannot be replayed or converted; record them "
+            "into one dataset with a single collect (--episodes N) instead"
+        )
     if KEY not in dataset.storage.metadata:
         raise DatasetError(f"{path} is a Minari dataset but not one of unified_manip's (no {KEY!r} metadata)")
     try:

@@ -140,7 +140,7 @@ PLUGIN_FAILURES: list[str] = []
 
 
 #: Gymnasium calls every version below an ID's highest "out of date". Here a higher version
-#: is a variant beside the old one (Arm4Push-v1 beside the design document's v0), never
+#: is a variant beside the old one (Arm4Push-v1 beside v0), never
 #: its replacement, so that notice is dropped for this namespace only.
 _NOT_OUT_OF_DATE = rf".*The environment {NAMESPACE}/\S+ is out of date"
 

@@ -203,7 +203,7 @@ def build_report(
     lines += robustness_section(bench_dir / ROBUSTNESS_FILE, out)
 
     if claims:
-        lines += ["## Against the design document's claims", ""]
+        lines += ["## Against the claimed success rates", ""]
         lines += claims_section(rows, claims)
 
     if dense_check:

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.envs.registry import get_task
+from unified_manip.envs.video import write_video
 from unified_manip.training import rundir
 from unified_manip.training.algorithms import get_algo
 from unified_manip.training.devices import DeviceError, resolve_device
@@ -184,17 +185,3 @@ def _stats_for(model_path: Path, run_dir: Path) -> Path:
         return rundir.stats_for(model_path, run_dir)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
-
-
-def write_video(path: Path, frames: list[np.ndarray], fps: int) -> None:
-    """MP4 (via imageio-ffmpeg) or GIF, chosen by the file suffix."""
-    import imageio.v3 as iio
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    suffix = path.suffix.lower()
-    if suffix == ".gif":
-        iio.imwrite(path, np.stack(frames), duration=1000 / fps, loop=0)
-    elif suffix == ".mp4":
-        iio.imwrite(path, np.stack(frames), fps=fps, codec="libx264", macro_block_size=1)
-    else:
-        raise TrainError(f"unsupported video format {path.suffix!r}; expected .mp4 or .gif")

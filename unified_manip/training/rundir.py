@@ -58,6 +58,14 @@ OUTPUTS = (
 #: device is where a run executes, not what it is: a run resumes on another).
 COMPARED = ("env", "env_kwargs", "algo", "steps", "seed", "n_envs", "hyperparameters")
 
+#: Run settings that change how fast a run trains, not what it learns, with the value a
+#: ``config.yaml`` written before the setting existed ran with. They are not compared
+#: (a hyperparameter file may change its default), and a resumed run keeps the value it
+#: started with: ``compile_loss`` learned the same as the eager loss
+#: (``results/compile_loss_check``), so the shipped TQC recipes turned it on after many
+#: committed runs trained without it.
+KEPT_ON_RESUME: dict[str, Any] = {"compile_loss": False}
+
 
 class RunDirectoryError(ValueError):
     """A run directory that cannot be used for this run (one-line error, exit 2)."""
@@ -147,11 +155,28 @@ def run_settings(run_dir: Path, config: dict[str, Any]) -> tuple[RunConfig, dict
         raise RunDirectoryError(f"{Path(run_dir) / CONFIG}: {err}") from None
 
 
+def kept_settings(run_dir: Path) -> dict[str, Any]:
+    """The :data:`KEPT_ON_RESUME` settings the run in ``run_dir`` started with (an older
+    ``config.yaml`` without one ran with its old default); empty for a new directory."""
+    if not (Path(run_dir) / CONFIG).is_file():
+        return {}
+    stored = read_config(run_dir).get("hyperparameters") or {}
+    return {key: stored.get(key, old) for key, old in KEPT_ON_RESUME.items()}
+
+
+def _comparable(config: dict[str, Any], key: str) -> Any:
+    value = config.get(key)
+    if key == "hyperparameters" and isinstance(value, dict):
+        return {k: v for k, v in value.items() if k not in KEPT_ON_RESUME}
+    return value
+
+
 def check_same_run(run_dir: Path, config: dict[str, Any], compared: tuple[str, ...]) -> None:
-    """Refuse a directory whose ``config.yaml`` differs from ``config`` in a ``compared`` key."""
+    """Refuse a directory whose ``config.yaml`` differs from ``config`` in a ``compared`` key
+    (the :data:`KEPT_ON_RESUME` settings aside)."""
     if (Path(run_dir) / CONFIG).is_file():
         stored = read_config(run_dir)
-        diff = [k for k in compared if stored.get(k) != config[k]]
+        diff = [k for k in compared if _comparable(stored, k) != _comparable(config, k)]
         if diff:
             raise RunDirectoryError(
                 f"{run_dir} holds a different run (it differs in {', '.join(diff)}); choose another --run-dir"

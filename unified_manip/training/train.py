@@ -107,8 +107,11 @@ def train(
     except ValueError as err:
         raise TrainError(str(err)) from None
     run_dir = req.directory
-    config = rundir.config_document(req, n_envs, params, argv, device)
     try:
+        # A resumed run keeps the speed settings it started with (rundir.KEPT_ON_RESUME).
+        kept = rundir.kept_settings(run_dir)
+        run, params = replace(run, **kept), {**params, **kept}
+        config = rundir.config_document(req, n_envs, params, argv, device)
         # everything below runs as the directory's only owner
         with rundir.owned(run_dir, lock_wait_s), speedups.compiled_loss(run.compile_loss):
             return _train_owned(req, run, resolved.algo_kwargs, run_dir, config, progress, log, threads)

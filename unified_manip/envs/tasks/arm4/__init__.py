@@ -1,6 +1,6 @@
-"""The 4-DOF arm family: the design document's arm, with its model corrected.
+"""The 4-DOF arm family: the arm first proposed for these comparisons, its model corrected.
 
-The model (``assets/arm4.xml``) keeps the design's kinematic layout: a yaw joint ``j0``
+The model (``assets/arm4.xml``) keeps the proposed kinematic layout: a yaw joint ``j0``
 on a base 0.42 m above the floor, three pitch joints ``j1``-``j3`` on links of 0.30,
 0.25 and 0.10 m, and a two-finger gripper. The corrections: angles in radians,
 joint damping and armature, force-limited actuators, gravity compensation on the arm
@@ -8,7 +8,7 @@ links, and fingers that reach past the palm so a top-down grasp closes on the cu
 
 The table top is at z = 0.42 m; the cube (5 cm, 0.1 kg) rests with its centre at
 z = 0.445 m. Control runs at 50 Hz (10 substeps of 2 ms). The ``native`` mode of this
-family is ``joint_delta``, as in the design document.
+family is ``joint_delta``, as first proposed.
 
 Modules: :mod:`.scene` (geometry, observation layout), :mod:`.goals` (reset
 distributions), :mod:`.controllers` (the action modes), :mod:`.backend` (the MuJoCo backend; imports MuJoCo),

@@ -16,7 +16,7 @@ CONTROLLERS = {
     "joint_velocity": ctl.JointVelocity(max_velocity=2.0, kv=(20.0, 20.0, 12.0, 6.0)),
     "ee_delta": ctl.EEDelta(step=EE_STEP),
     "ee_target_delta": ctl.EETargetDelta(step=EE_STEP),
-    # The design document's scheme: native is joint_delta.
+    # The arm's first proposed scheme: native is joint_delta.
     "native": ctl.JointDelta(max_delta=0.05),
 }
 

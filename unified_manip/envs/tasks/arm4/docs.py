@@ -6,7 +6,7 @@ from unified_manip.envs.controllers.docs import modes_section
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
 
 _MODES_HEAD = """Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
-+1 open; native is joint_delta, the design document's scheme):"""
++1 open; native is joint_delta, the arm's first proposed scheme):"""
 _MODES = f"""{_MODES_HEAD}
 {modes_section(CONTROLLERS)}"""
 _MODES_25HZ = f"""{_MODES_HEAD}
@@ -70,9 +70,9 @@ Version history: v0 initial.
 
 PICK_AND_PLACE_DOC = f"""Arm4PickAndPlace: grasp the cube and carry it to a goal in the air.
 
-The design document's task. The cube starts at rest at x [0.40, 0.60],
+The arm's first task. The cube starts at rest at x [0.40, 0.60],
 y [-0.10, 0.10] m; the goal is sampled in x [0.30, 0.50], y [0.10, 0.30],
-z [0.50, 0.60] m, i.e. 5.5-15.5 cm above the cube's resting height, as in the design.
+z [0.50, 0.60] m, i.e. 5.5-15.5 cm above the cube's resting height.
 Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
 
 Observation (34,):
@@ -86,8 +86,8 @@ Version history: v0 initial.
 
 PUSH_V1_DOC = f"""Arm4Push-v1: Arm4Push with Fetch's timing and goal distribution.
 
-The same arm, cube and table as v0. Two things change, both to match FetchPush (issue 10,
-part 3b: why the arm learns more slowly than Fetch):
+The same arm, cube and table as v0. Two things change, both to match FetchPush (to test
+why the arm learns more slowly than Fetch):
 - Goals: anywhere in x [0.35, 0.65], y [-0.15, 0.15] m on the table top, with no minimum
   distance from the cube (v0: at least 10 cm), so some episodes start solved, as in Fetch
   (about 8% here, 6.8% in FetchPush).
@@ -109,7 +109,7 @@ distance from the cube).
 PICK_AND_PLACE_V1_DOC = f"""Arm4PickAndPlace-v1: Arm4PickAndPlace with Fetch's goal distribution.
 
 The same arm, cube, table and timing as v0 (100 steps of 20 ms). One thing changes, to match
-FetchPickAndPlace (issue 10, part 3b: why the arm learns more slowly than Fetch): half of
+FetchPickAndPlace (to test why the arm learns more slowly than Fetch): half of
 the goals lie on the table top (z at the cube's resting height), the other half in v0's
 band in the air. Goals are sampled in x [0.30, 0.50], y [0.10, 0.30] m; with probability
 0.5 z is the resting height, otherwise z [0.50, 0.60] m. A goal on the table can be met by

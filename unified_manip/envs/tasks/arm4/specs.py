@@ -44,7 +44,8 @@ V0: tuple[TaskSpec, ...] = tuple(
     )
 )
 
-#: Arm4Push with Fetch's timing and goal distribution (issue 10, part 3b): v0's push task
+#: Arm4Push with Fetch's timing and goal distribution (to test why the arm learns more
+#: slowly than Fetch): v0's push task
 #: with only these fields changed.
 PUSH_V1 = replace(
     V0[1],
@@ -57,7 +58,8 @@ PUSH_V1 = replace(
     render_fps=25,
 )
 
-#: Arm4PickAndPlace with Fetch's goal distribution (issue 10, part 3b): half of the goals on
+#: Arm4PickAndPlace with Fetch's goal distribution (to test why the arm
+#: learns more slowly than Fetch): half of the goals on
 #: the table; v0's timing, so that one lever changes.
 PICK_AND_PLACE_V1 = replace(
     V0[2],

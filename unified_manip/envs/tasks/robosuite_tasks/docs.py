@@ -34,10 +34,10 @@ Sawyer 50, UR5e 53, IIWA/Kinova3/Jaco 58 (grippers with more joints)."""
 _INFO = """Info adds ``native_success`` (1.0/0.0, robosuite's ``_check_success()``) and
 ``native_reward`` (robosuite's own sparse reward for the step)."""
 
-_HISTORY = """Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz). Since issue 11,
-rendered frames and camera images hide the collision geoms (group 0), as robosuite's
-renderer does; observations (low-dim), rewards and infos are unchanged. Since issue 41,
-``camera_obs=True`` (an ``image`` key) is ``observation=['default', 'rgb']``."""
+_HISTORY = """Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz). Since the action modes became
+controller configs, rendered frames and camera images hide the collision geoms (group 0), as robosuite's
+renderer does; observations (low-dim), rewards and infos are unchanged. Since observation designs were
+added, ``camera_obs=True`` (an ``image`` key) is ``observation=['default', 'rgb']``."""
 
 LIFT_DOC = f"""Lift: pick up a cube (2 cm half-size) and hold it at a goal point above the table
 (robosuite Lift).
