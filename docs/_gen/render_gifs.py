@@ -96,6 +96,14 @@ def write_gif(path: Path, frames: list[np.ndarray], frame_ms: int, colours: int 
     )
 
 
+def gif_frames(path: Path) -> int:
+    """How many frames the GIF at ``path`` holds."""
+    from PIL import Image
+
+    with Image.open(path) as gif:
+        return gif.n_frames
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--all", action="store_true", help="render every task, not only those without a GIF")
@@ -115,6 +123,7 @@ def main(argv: list[str] | None = None) -> int:
         write_gif(tmp, frames, meta["frame_ms"])
         tmp.replace(path)
         meta["bytes"] = path.stat().st_size
+        meta["frames"] = gif_frames(path)  # Pillow merges identical consecutive frames
         record[task_id] = meta
         RECORD.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
         print(f"wrote {path}: {meta['frames']} frames, {meta['bytes'] / 1e3:.0f} kB, {meta['policy']}", flush=True)

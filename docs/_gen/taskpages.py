@@ -70,7 +70,7 @@ def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
     live = taskspaces.spaces(spec.id)
     example_mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
     intro, notes = taskdoc.modes_intro(doc["action"])
-    lines = [f"# {short_id(spec.id)}", "", summary, "", *_picture(spec, animation, has_frame)]
+    lines = [f"# {short_id(spec.id)}", "", *_picture(spec, animation, has_frame)]
     lines += [
         "| | |",
         "|---|---|",
@@ -91,6 +91,8 @@ def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
         "```",
         "",
         "## Description",
+        "",
+        summary,
         "",
         *taskdoc.markdown(doc["description"]),
         "## Action space",

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import warnings
 from importlib.metadata import version
 from pathlib import Path
@@ -69,13 +70,16 @@ def spaces(task_id: str) -> dict:
     """:func:`measure`'s result for ``task_id``, from the cache when it is current."""
     if not _key:
         _key.append(fingerprint())
-        cached = json.loads(CACHE.read_text()) if CACHE.is_file() else {}
+        try:
+            cached = json.loads(CACHE.read_text())
+        except (OSError, ValueError):  # none yet, or unreadable: measure again
+            cached = {}
         if cached.get("fingerprint") == _key[0]:
             _memo.update(cached["tasks"])
     if task_id not in _memo:
         _memo[task_id] = measure(task_id)
         CACHE.parent.mkdir(parents=True, exist_ok=True)
-        tmp = CACHE.with_suffix(".tmp")
+        tmp = CACHE.with_suffix(f".{os.getpid()}.tmp")  # two builds at once each write whole files
         tmp.write_text(json.dumps({"fingerprint": _key[0], "tasks": _memo}, indent=1))
         tmp.replace(CACHE)
     return _memo[task_id]
