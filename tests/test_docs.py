@@ -43,14 +43,30 @@ def site(tmp_path_factory) -> Path:
 
 
 @pytest.mark.slow
-def test_every_registered_task_has_a_page_with_its_frame_and_modes(site):
+def test_every_registered_task_has_a_page_with_its_animation_sections_and_modes(site):
+    index = (site / "tasks" / "index.html").read_text()
     for task_id, spec in unified_manip.TASKS.items():
         name = task_id.split("/", 1)[1]
         page = (site / "tasks" / name / "index.html").read_text()
-        assert f"images/tasks/{name}.png" in page, name
-        assert (site / "images" / "tasks" / f"{name}.png").is_file(), name
+        assert f"images/tasks/{name}.gif" in page, name
+        assert (site / "images" / "tasks" / f"{name}.gif").is_file(), name
+        assert f'src="../images/tasks/{name}.png"' in index, name  # the index's thumbnail
+        for section in ("action-space", "rewards", "starting-state", "episode-end", "arguments", "benchmark"):
+            assert f'id="{section}"' in page, (name, section)
+        assert 'href="../../reference/api/envs/#unified_manip.envs.config.EnvConfig"' in page, name
         for mode in spec.action_modes:
             assert f"<code>{mode}</code>" in page, (name, mode)
+
+
+@pytest.mark.slow
+def test_the_home_page_opens_with_code_and_the_headline_results(site):
+    page = (site / "index.html").read_text()
+    body = page.split("<h1", 1)[1]
+    assert body.index("UnifiedManip/Arm4Reach-v0") < body.index('id="headline-results"') < body.index('id="why"')
+    from unified_manip.experiments.headline import headline_table
+
+    headline = headline_table(ROOT / "results" / "action_spaces_families").splitlines()[0]
+    assert headline.split(" (", 1)[0] in page and 'href="tasks/FetchPush-v0/"' in page
 
 
 @pytest.mark.slow

@@ -44,8 +44,9 @@ def on_config(config):
 
 def on_files(files: Files, config) -> Files:
     docs_dir = Path(config["docs_dir"])
+    animations = taskpages.animations(docs_dir)
     for task_id, spec in _tasks().items():
-        page = taskpages.task_page(spec, taskpages.frame_exists(docs_dir, task_id))
+        page = taskpages.task_page(spec, taskpages.frame_exists(docs_dir, task_id), animations.get(task_id))
         files.append(File.generated(config, taskpages.page_path(task_id), content=page))
     from unified_manip.cli.main import build_parser
 
@@ -102,6 +103,10 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         from unified_manip.experiments.headline import headline_table
 
         return headline_table(_experiment(args[0]))
+    if kind == "benchmark-summary":
+        import tasksections
+
+        return tasksections.benchmark_summary(_tasks())
     if kind == "command":
         return resultpages.command(_experiment(args[0]))
     raise ValueError(f"unknown marker gen:{kind}")
@@ -121,6 +126,7 @@ MARKERS = (
     "conversion NAME",
     "robustness NAME",
     "headline NAME",
+    "benchmark-summary",
 )
 
 

@@ -1,27 +1,36 @@
-"""Task pages, the task table, the mode and reward tables and the version history,
-generated from the registry (:data:`unified_manip.TASKS`) and the configs.
+"""Task pages, the task table, the reward table and the version history, generated from
+the registry (:data:`unified_manip.TASKS`), live envs and the configs.
 
-A task's ``TaskSpec.doc`` is plain text (what ``unified-manip list --doc ID`` prints).
-:func:`task_page` turns it into Markdown: its observation tables become Markdown
-tables, its action-mode list is rebuilt from the task's controller configs, and its
-``Version history:`` paragraph feeds :func:`versions_table`.
+A task page has the sections of :data:`SECTIONS`. The written ones come from the task's
+``TaskSpec.doc`` (:mod:`taskdoc`); the action space, the reward designs, the episode end,
+the ``gym.make`` keywords and the benchmark rows are generated (:mod:`tasksections`), the
+action spaces from an env built in every mode (:mod:`taskspaces`). The animation and its
+caption come from ``docs/images/tasks/`` (written by ``render_gifs.py``).
 """
 
 from __future__ import annotations
 
-import re
+import json
 from pathlib import Path
 
-# Paragraph starters in a task doc: a label, optionally with a parenthesis, then a colon
-# ("Goal (3,): ...", "Dense reward: ...", "Options: ..."), or a line that opens a
-# section without one.
-_LABEL = re.compile(r"^[A-Z][A-Za-z ]{0,30}(?: \([^)]*\))?:(?:\s|$)")
-_STARTS = ("Observation", "- ")
-# A row of an observation table: "    0-3    joint angles j0..j3    rad".
-_ROW = re.compile(r"^\s{4}(\d+(?:-\d+)?)\s{2,}(.*?)(?:\s{2,}(\S.*?))?\s*$")
+import taskdoc
+import tasksections as gen
+import taskspaces
 
-#: Where the committed task frames live, relative to ``docs/``.
+#: Where the committed task frames and animations live, relative to ``docs/``.
 FRAMES = "images/tasks"
+#: Every task page's sections, in order.
+SECTIONS: tuple[str, ...] = (
+    "Description",
+    "Action space",
+    "Observation",
+    "Rewards",
+    "Starting state",
+    "Episode end",
+    "Arguments",
+    "Version history",
+    "Benchmark",
+)
 
 
 def short_id(task_id: str) -> str:
@@ -34,141 +43,42 @@ def page_path(task_id: str) -> str:
     return f"tasks/{short_id(task_id)}.md"
 
 
-def _split_doc(doc: str) -> tuple[str, list[str]]:
-    """The doc's first paragraph (its summary) and the remaining lines."""
-    lines = doc.strip("\n").splitlines()
-    end = next((i for i, line in enumerate(lines) if not line.strip()), len(lines))
-    return " ".join(line.strip() for line in lines[:end]), lines[end:]
+def animations(docs_dir: Path) -> dict[str, dict]:
+    """How each committed animation was made (``render_gifs.py``'s record), by task ID."""
+    path = docs_dir / FRAMES / "animations.json"
+    return json.loads(path.read_text()) if path.is_file() else {}
 
 
-def _modes_block(lines: list[str]) -> tuple[int, int] | None:
-    """``(start, stop)`` of the action-mode list: its "Action modes" header (possibly
-    wrapped over several lines), the indented mode rows and the indented
-    ``controller_options`` paragraph after them."""
-    start = next((i for i, line in enumerate(lines) if line.startswith("Action modes")), None)
-    if start is None:
-        return None
-    i = start
-    while i < len(lines) and not lines[i].startswith("    "):
-        i += 1
-    while i < len(lines) and lines[i].startswith("    "):
-        i += 1
-    return start, i
-
-
-def _modes_intro(lines: list[str]) -> str:
-    """The "Action modes (...):" header's parenthesis as one sentence."""
-    header = []
-    for line in lines:
-        if line.startswith("    "):
-            break
-        header.append(line.strip())
-    text = " ".join(header).rstrip(":")
-    if text.startswith("Action modes (") and text.endswith(")"):
-        text = text[len("Action modes (") : -1]
-    return text[:1].upper() + text[1:] + "."
-
-
-def modes_table(controllers) -> str:
-    """Markdown: one row per action mode with its config's description and the
-    parameters ``controller_options`` may set, with their values for this task."""
-    rows = [
-        "| mode | the action (`a` in [-1, 1] per joint or axis) | `controller_options` (defaults here) |",
-        "|---|---|---|",
-    ]
-    for mode, config in controllers.items():
-        params = ", ".join(f"`{name}={value!r}`" for name, value in config.parameters().items()) or "–"
-        rows.append(f"| `{mode}` | {config.describe()} | {params} |")
-    return "\n".join(rows)
-
-
-def _table(rows: list[re.Match]) -> list[str]:
-    out = ["| index | content | units |", "|---|---|---|"]
-    out += [f"| {m.group(1)} | {m.group(2).strip()} | {(m.group(3) or '').strip()} |" for m in rows]
-    return out
-
-
-def _markdown(lines: list[str]) -> list[str]:
-    """Plain doc lines to Markdown: paragraphs (a label starts a new one), list items,
-    observation tables from indented rows, other indented blocks as code."""
-    out: list[str] = []
-    para: list[str] = []
-
-    def flush():
-        if para:
-            out.extend([" ".join(para), ""])
-            para.clear()
-
-    i = 0
-    while i < len(lines):
-        line = lines[i]
-        if not line.strip():
-            flush()
-            i += 1
-        elif line.startswith("    "):
-            flush()
-            block = []
-            while i < len(lines) and lines[i].startswith("    "):
-                block.append(lines[i])
-                i += 1
-            rows = [_ROW.match(b) for b in block if not set(b.strip()) <= set("= ")]
-            rows = [r for r in rows if r and r.group(1) != "index"]
-            body = [b for b in block if not set(b.strip()) <= set("= ") and "index  content" not in b]
-            if rows and len(rows) == len(body):
-                out.extend([*_table(rows), ""])
-            else:
-                out.extend(["```text", *(b[4:] for b in block), "```", ""])
-        else:
-            stripped = line.strip()
-            if _LABEL.match(stripped) or stripped.startswith(_STARTS):
-                flush()
-            para.append(stripped)
-            i += 1
-    flush()
-    return out
-
-
-def version_history(doc: str) -> str:
-    """The doc's ``Version history:`` paragraph, without its label."""
-    lines = doc.strip("\n").splitlines()
-    start = next(i for i, line in enumerate(lines) if line.startswith("Version history:"))
-    text = []
-    for line in lines[start:]:
-        if not line.strip():
-            break
-        text.append(line.strip())
-    return " ".join(text)[len("Version history:") :].strip()
-
-
-def _without_history(lines: list[str]) -> list[str]:
-    start = next((i for i, line in enumerate(lines) if line.startswith("Version history:")), len(lines))
-    stop = start
-    while stop < len(lines) and lines[stop].strip():
-        stop += 1
-    return lines[:start] + lines[stop:]
-
-
-def task_page(spec, has_frame: bool) -> str:
-    """One task's page, in Markdown."""
-    summary, rest = _split_doc(spec.doc)
-    rest = _without_history(rest)
-    block = _modes_block(rest)
-    example_mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
-    lines = [f"# {short_id(spec.id)}", "", summary, ""]
+def _picture(spec, animation: dict | None, has_frame: bool) -> list[str]:
+    name = short_id(spec.id)
+    if animation:
+        success = animation["first_success_step"]
+        outcome = f"success at step {success}" if success else "no success"
+        caption = (
+            f"One episode (seed 0) of {animation['policy']} in `{animation['action_mode']}`, "
+            f"{outcome}, shown in real time."
+        )
+        return [f"![{name}: {caption}](../{FRAMES}/{name}.gif){{ width=240 }}", "", f"*{caption}*", ""]
     if has_frame:
-        lines += [
-            f"![{short_id(spec.id)}: its scripted policy at work, seed 0](../{FRAMES}/{short_id(spec.id)}.png)"
-            "{ width=320 }",
-            "",
-        ]
+        return [f"![{name}: its scripted policy at work, seed 0](../{FRAMES}/{name}.png){{ width=320 }}", ""]
+    return []
+
+
+def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
+    """One task's page, in Markdown."""
+    summary, doc = taskdoc.split(spec.doc)
+    live = taskspaces.spaces(spec.id)
+    example_mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
+    intro, notes = taskdoc.modes_intro(doc["action"])
+    lines = [f"# {short_id(spec.id)}", "", *_picture(spec, animation, has_frame)]
     lines += [
         "| | |",
         "|---|---|",
         f"| ID | `{spec.id}` |",
         f"| family | `{spec.family}` |",
-        f"| reward term set | `{spec.terms.name}` ([reward designs](../concepts/rewards.md)) |",
+        f"| action space | {gen.box(live['modes'][example_mode])} in `{example_mode}` ([every mode](#action-space)) |",
         f"| goal size | {spec.goal_dim} |",
-        f"| episode length | {spec.max_episode_steps} steps |",
+        f"| episode length | {spec.max_episode_steps} steps of {live['dt'] * 1000:g} ms |",
         f"| success threshold | goal distance < {spec.distance_threshold:g} |",
         f"| scripted policy | {'yes' if spec.scripted_policy else 'no'} |",
         "",
@@ -178,38 +88,106 @@ def task_page(spec, has_frame: bool) -> str:
         "",
         f'env = gym.make("{spec.id}",',
         f'               action_mode="{example_mode}", reward_type="sparse")',
+        "obs, info = env.reset(seed=0)",
         "```",
         "",
         "## Description",
         "",
-    ]
-    if block is None:
-        lines += _markdown(rest)
-    else:
-        start, stop = block
-        lines += _markdown(rest[:start])
-        lines += ["## Action modes", "", _modes_intro(rest[start:stop]), "", modes_table(spec.controllers), ""]
-        after = _markdown(rest[stop:])
-        if after:
-            lines += ["## Details", "", *after]
-    lines += [
+        summary,
+        "",
+        *taskdoc.markdown(doc["description"]),
+        "## Action space",
+        "",
+        f"{intro} The first table reads each mode's `action_space` and `observation` size from an "
+        "env built in that mode.",
+        "",
+        *gen.action_tables(spec.controllers, live),
+        "",
+        *taskdoc.markdown(notes),
+        "## Observation",
+        "",
+        *taskdoc.markdown(doc["observation"]),
+        "## Rewards",
+        "",
+        f'`info["is_success"]` is 1.0 when the goal distance is below **{spec.distance_threshold:g}** '
+        "(`distance_threshold`), at reset and on every step.",
+        "",
+        *taskdoc.markdown(_relabel(doc["rewards"], "Rewards:", "In the dense designs,")),
+        f"The reward designs on this task (term set `{spec.terms.name}`), with the scales of the "
+        f"default [`RewardConfig`]({gen.REWARD_CONFIG_API}); `reward_config=` changes them "
+        "([reward designs](../concepts/rewards.md)):",
+        "",
+        *gen.reward_rows(spec.terms),
+        "",
+        "`compute_reward` returns the same reward for goals and infos, batched, for every design.",
+        "",
+        "## Starting state",
+        "",
+        *taskdoc.markdown(taskdoc.strip_label(doc["starting"], "Starting state:")),
+        "`env.reset(seed=s)` draws every random quantity from the env's `np_random`, so a seed gives the same episode.",
+        "",
+        "## Episode end",
+        "",
+        *gen.episode_end(spec, live),
+        "",
+        "## Arguments",
+        "",
+        f'Every keyword of `gym.make("{spec.id}", ...)`, with its default: the fields of '
+        f"[`EnvConfig`]({gen.ENV_CONFIG_API}), which checks them before a simulator is built.",
+        "",
+        *gen.argument_rows(spec, live),
+        "",
+        *(
+            taskdoc.markdown(doc["arguments"])
+            or ["Any other keyword raises `TypeError`: this task takes no family options.", ""]
+        ),
         "## Version history",
         "",
-        version_history(spec.doc),
+        taskdoc.version_history(spec.doc),
         "",
-        f"Generated from the task's `TaskSpec` (`unified-manip list --doc {spec.id}` prints the same text).",
+        "## Benchmark",
+        "",
+        *_benchmark(spec.id),
+        f"Generated from the task's `TaskSpec` (`unified-manip list --doc {spec.id}` prints its text) "
+        "and from envs built in every action mode.",
         "",
     ]
     return "\n".join(lines)
 
 
+def _relabel(lines: list[str], label: str, words: str) -> list[str]:
+    """``lines`` with ``label`` at the start of any line replaced by ``words``."""
+    return [words + line[len(label) :] if line.startswith(label) else line for line in lines]
+
+
+def _benchmark(task_id: str) -> list[str]:
+    rows = gen.benchmark_rows(task_id)
+    if not rows:
+        return [f"{short_id(task_id)} is not in the [benchmark](../results/benchmark.md) yet.", ""]
+    return [
+        "Sparse reward with HER, 50 deterministic evaluation episodes every 10k steps; final success is "
+        "the mean over seeds with the seeds' range below 5 seeds "
+        "([the benchmark, its recipe and curves](../results/benchmark.md)):",
+        "",
+        *rows,
+        "",
+    ]
+
+
 def task_table(tasks) -> str:
-    """Markdown: every registered ID with its family, sizes and modes, linked to its page."""
-    rows = ["| ID | family | goal size | episode steps | action modes |", "|---|---|---:|---:|---|"]
+    """Markdown: every registered ID with a thumbnail, its family, sizes and modes, linked
+    to its page."""
+    from unified_manip.envs.config import ACTION_MODES
+
+    rows = ["| | ID | family | goal size | episode steps | action modes |", "|---|---|---|---:|---:|---|"]
     for spec in tasks.values():
         name = short_id(spec.id)
-        modes = ", ".join(f"`{m}`" for m in spec.action_modes)
-        rows.append(f"| [{name}]({name}.md) | `{spec.family}` | {spec.goal_dim} | {spec.max_episode_steps} | {modes} |")
+        every = set(spec.action_modes) == set(ACTION_MODES)
+        modes = "every mode" if every else ", ".join(f"`{m}`" for m in spec.action_modes)
+        thumb = f"[![{name}](../{FRAMES}/{name}.png){{ width=96 }}]({name}.md)"
+        rows.append(
+            f"| {thumb} | [{name}]({name}.md) | `{spec.family}` | {spec.goal_dim} | {spec.max_episode_steps} | {modes} |"
+        )
     return "\n".join(rows)
 
 
@@ -217,26 +195,12 @@ def versions_table(tasks) -> str:
     """Markdown: each registered ID's version history, from its doc."""
     rows = ["| ID | version history |", "|---|---|"]
     for spec in tasks.values():
-        rows.append(f"| [{short_id(spec.id)}](tasks/{short_id(spec.id)}.md) | {version_history(spec.doc)} |")
+        rows.append(f"| [{short_id(spec.id)}](tasks/{short_id(spec.id)}.md) | {taskdoc.version_history(spec.doc)} |")
     return "\n".join(rows)
 
 
 def frame_exists(docs_dir: Path, task_id: str) -> bool:
     return (docs_dir / FRAMES / f"{short_id(task_id)}.png").is_file()
-
-
-def _term_formula(fn) -> str:
-    """A reward term's function, written out."""
-    if hasattr(fn, "gain"):  # rewards.Shaped
-        x = "d_goal" if fn.of == "distance" else fn.of
-        shaped = f"1 - tanh({fn.gain:g} · {x})"
-        return f"{fn.gate} · ({shaped})" if fn.gate else shaped
-    known = {"sparse": "success - 1", "success_bonus": "success", "action_penalty": "-Σa² (`action_sq`)"}
-    name = getattr(fn, "__name__", "")
-    if name in known:
-        return known[name]
-    doc = (getattr(fn, "__doc__", None) or repr(fn)).strip().splitlines()[0]
-    return doc.split(":")[0].strip("`. ")  # a term set's own term: its docstring's formula
 
 
 def reward_table(reward_types, term_sets) -> str:
@@ -246,7 +210,7 @@ def reward_table(reward_types, term_sets) -> str:
     for reward_type in reward_types:
         for term_set in term_sets:
             spec = term_set.design(reward_type)
-            terms = "; ".join(f"`{t.name}`: {t.scale:g} × ({_term_formula(t.fn)})" for t in spec.terms)
+            terms = "; ".join(f"`{t.name}`: {t.scale:g} × ({gen.term_formula(t.fn)})" for t in spec.terms)
             rows.append(f"| `{reward_type}` | `{term_set.name}` | {terms} |")
             if reward_type == "sparse":
                 rows[-1] = f"| `{reward_type}` | every term set | {terms} |"

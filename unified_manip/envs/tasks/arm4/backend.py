@@ -23,6 +23,7 @@ from unified_manip.envs.tasks.arm4.scene import (
     CUBE_REST_Z,
     FINGER_OPEN,
     GRASP_RADIUS,
+    HOME_SITE,
     NQ_OBJECT,
     NQ_REACH,
     QPOS_ARM,
@@ -38,7 +39,7 @@ from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 SCENE = SceneOptions(camera="front")
 
 #: Arm posture at reset: grip site about 15 cm above the table, pointing down.
-HOME_TARGET = np.array([0.45, 0.0, 0.58])
+HOME_TARGET = np.array(HOME_SITE)
 
 
 def top_down(target: np.ndarray) -> np.ndarray:

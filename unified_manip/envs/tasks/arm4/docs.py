@@ -1,12 +1,22 @@
-"""The 4-DOF arm tasks' documentation pages (``unified-manip list --doc``)."""
+"""The 4-DOF arm tasks' documentation pages (``unified-manip list --doc``).
+
+Each doc is paragraphs: a summary, then labelled ones (``Starting state:``, ``Success:``,
+``Observation``, ``Action modes``, ``Rewards:``, ``Version history:``) that the site's task
+pages put under their headings. The reset distributions are printed from the constants
+the backend samples them with.
+"""
 
 from __future__ import annotations
 
+import textwrap
+
 from unified_manip.envs.controllers.docs import modes_section
+from unified_manip.envs.tasks.arm4 import goals
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
+from unified_manip.envs.tasks.arm4.scene import CUBE_HALF, CUBE_REST_Z, FINGER_OPEN, HOME_SITE, TABLE_Z
 
 _MODES_HEAD = """Action modes (action in [-1, 1]; the last entry commands the gripper, -1 closed,
-+1 open; native is joint_delta, the arm's first proposed scheme):"""
++1 open; native is joint_delta, the scheme the arm was first specified with):"""
 _MODES = f"""{_MODES_HEAD}
 {modes_section(CONTROLLERS)}"""
 _MODES_25HZ = f"""{_MODES_HEAD}
@@ -19,11 +29,36 @@ _TABLE_HEAD = """\
 """
 _TABLE_END = "    =====  ==========================================  ==========\n"
 
+
+def _box(low, high, axes: str = "xyz") -> str:
+    """``x [0.30, 0.60], y [-0.25, 0.25] m``: a uniform box, one interval per axis."""
+    return ", ".join(f"{a} [{lo:.2f}, {hi:.2f}]" for a, lo, hi in zip(axes, low, high)) + " m"
+
+
+def _wrap(text: str) -> str:
+    """A paragraph filled to 88 columns, as the rest of the doc."""
+    return textwrap.fill(" ".join(text.split()), 88)
+
+
+_ARM_START = f"""the arm at its home posture, the grip site at ({", ".join(f"{v:g}" for v in HOME_SITE)}) m
+pointing down, fingers open ({FINGER_OPEN * 100:g} cm), at rest"""
+_CUBE_START = f"""the cube ({CUBE_HALF * 200:g} cm) at rest, upright, its centre
+uniform in {_box(goals.OBJECT_XY_LOW, goals.OBJECT_XY_HIGH, "xy")}, z = {CUBE_REST_Z:g} m"""
+_SUCCESS_CUBE = """Success: the goal distance is the Euclidean distance between the cube's centre and
+the goal point, in metres."""
+
+_REACH_START = _wrap(
+    f"""Starting state: {_ARM_START}; the goal uniform in {_box(goals.REACH_GOAL_LOW, goals.REACH_GOAL_HIGH)}."""
+)
+
 REACH_DOC = f"""Arm4Reach: bring the 4-DOF arm's grip site to a goal point.
 
-The goal is sampled uniformly in x [0.30, 0.60], y [-0.25, 0.25], z [0.46, 0.65] m
-(world frame; the table top is z = 0.42). There is no object. Success: the grip site
-is within 5 cm of the goal. 50 steps of 20 ms.
+There is no object. The table top is at z = {TABLE_Z:g} m (world frame).
+
+{_REACH_START}
+
+Success: the goal distance is the Euclidean distance between the grip site and the goal
+point, in metres.
 
 Observation (18,):
 {_TABLE_HEAD}    0-3    joint angles j0..j3                         rad
@@ -34,8 +69,11 @@ Observation (18,):
     15-17  goal - grip site                            m
 {_TABLE_END}
 Goal (3,): achieved = grip-site position, desired = goal point, m.
+
 {_MODES}
-Dense reward: reach = 1 - tanh(5 d), success bonus 10.
+
+Rewards: with no object, the reach term reads the goal distance d_goal.
+
 Version history: v0 initial.
 """
 
@@ -52,76 +90,113 @@ _OBJECT_TABLE = f"""{_TABLE_HEAD}    0-3    joint angles j0..j3                 
     31-33  goal - cube                                 m
 {_TABLE_END}"""
 
+_OBJECT_OBS = f"""Observation (34,):
+{_OBJECT_TABLE}
+Goal (3,): achieved = cube centre, desired = goal point, m."""
+
+_PUSH_REWARDS = """Rewards: grip_to_object is the distance from the grip site to the cube's centre (m);
+the place term has no grasp gate."""
+
+_GRASP_REWARDS = """Rewards: grip_to_object is the distance from the grip site to the cube's centre (m);
+grasped is 1 while both fingers touch the cube."""
+
+_PUSH_GOAL = f"""on the table top (z = {CUBE_REST_Z:g} m, the cube's resting
+height), uniform in {_box(goals.PUSH_GOAL_XY_LOW, goals.PUSH_GOAL_XY_HIGH, "xy")}"""
+
+_PUSH_START = _wrap(
+    f"""Starting state: {_ARM_START}; {_CUBE_START}; the goal {_PUSH_GOAL}, drawn again until
+more than {goals.PUSH_MIN_DISTANCE * 100:g} cm from the cube, so no episode starts solved."""
+)
+
 PUSH_DOC = f"""Arm4Push: push the cube across the table to a goal on the table.
 
-The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m; the goal lies on the
-table top (z = 0.445, the cube's resting height) at x [0.35, 0.65], y [-0.15, 0.15] m,
-at least 10 cm from the cube. Success: the cube's centre is within 5 cm of the goal.
-100 steps of 20 ms.
+{_PUSH_START}
 
-Observation (34,):
-{_OBJECT_TABLE}
-Goal (3,): achieved = cube centre, desired = goal point, m.
+{_SUCCESS_CUBE}
+
+{_OBJECT_OBS}
+
 {_MODES}
-Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d)) without a
-grasp gate, success bonus 10.
+
+{_PUSH_REWARDS}
+
 Version history: v0 initial.
 """
+
+_AIR = f"uniform in {_box(goals.PLACE_GOAL_LOW, goals.PLACE_GOAL_HIGH)}"
+
+_PLACE_START = _wrap(
+    f"""Starting state: {_ARM_START}; {_CUBE_START}; the goal {_AIR}, i.e.
+{(goals.PLACE_GOAL_LOW[2] - CUBE_REST_Z) * 100:g}-{(goals.PLACE_GOAL_HIGH[2] - CUBE_REST_Z) * 100:g} cm above the cube's resting height."""
+)
 
 PICK_AND_PLACE_DOC = f"""Arm4PickAndPlace: grasp the cube and carry it to a goal in the air.
 
-The arm's first task. The cube starts at rest at x [0.40, 0.60],
-y [-0.10, 0.10] m; the goal is sampled in x [0.30, 0.50], y [0.10, 0.30],
-z [0.50, 0.60] m, i.e. 5.5-15.5 cm above the cube's resting height.
-Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
+The arm's first task: every goal is above the cube's resting height, so a success needs a
+lift.
 
-Observation (34,):
-{_OBJECT_TABLE}
-Goal (3,): achieved = cube centre, desired = goal point, m.
+{_PLACE_START}
+
+{_SUCCESS_CUBE}
+
+{_OBJECT_OBS}
+
 {_MODES}
-Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
-success bonus 10; ``grasped`` means both fingers touch the cube.
+
+{_GRASP_REWARDS}
+
 Version history: v0 initial.
 """
 
+_PUSH_V1_START = _wrap(f"""Starting state: {_ARM_START}; {_CUBE_START}; the goal {_PUSH_GOAL}.""")
+
 PUSH_V1_DOC = f"""Arm4Push-v1: Arm4Push with Fetch's timing and goal distribution.
 
-The same arm, cube and table as v0. Two things change, both to match FetchPush (to test
-why the arm learns more slowly than Fetch):
-- Goals: anywhere in x [0.35, 0.65], y [-0.15, 0.15] m on the table top, with no minimum
-  distance from the cube (v0: at least 10 cm), so some episodes start solved, as in Fetch
-  (about 8% here, 6.8% in FetchPush).
-- Timing: 50 steps of 40 ms (25 Hz control, 20 substeps), as Fetch; v0 has 100 steps of
-  20 ms. Each mode's step doubles (ee_delta 5 cm, joint_delta 0.1 rad), so the speed per
-  second is v0's. A discount of 0.95 then spans 0.8 s instead of 0.4 s.
-The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m. Success: the cube's centre
-is within 5 cm of the goal.
+The same arm, cube and table as v0. Two things change, both to match FetchPush, to find
+out why the arm learned more slowly than Fetch:
+- Goals: no minimum distance from the cube (v0: more than {goals.PUSH_MIN_DISTANCE * 100:g} cm), so some episodes
+  start solved, as in Fetch (about 8% here, 6.8% in FetchPush).
+- Timing: 40 ms steps (25 Hz control, 20 substeps of 2 ms) and half as many of them, as
+  Fetch; v0 has 20 ms steps. Each mode's step doubles (ee_delta 5 cm, joint_delta
+  0.1 rad), so the speed per second is v0's. A discount of 0.95 then spans 0.8 s
+  instead of 0.4 s.
 
-Observation (34,):
-{_OBJECT_TABLE}
-Goal (3,): achieved = cube centre, desired = goal point, m.
+{_PUSH_V1_START}
+
+{_SUCCESS_CUBE}
+
+{_OBJECT_OBS}
+
 {_MODES_25HZ}
-Dense reward: as v0.
+
+{_PUSH_REWARDS}
+
 Version history: v0 initial; v1 Fetch's timing (25 Hz, 50 steps) and goals (no minimum
 distance from the cube).
 """
 
+_PLACE_V1_START = _wrap(
+    f"""Starting state: {_ARM_START}; {_CUBE_START}; the goal {_AIR}, then with probability 0.5
+lowered onto the table top (z = {CUBE_REST_Z:g} m, the cube's resting height)."""
+)
+
 PICK_AND_PLACE_V1_DOC = f"""Arm4PickAndPlace-v1: Arm4PickAndPlace with Fetch's goal distribution.
 
-The same arm, cube, table and timing as v0 (100 steps of 20 ms). One thing changes, to match
-FetchPickAndPlace (to test why the arm learns more slowly than Fetch): half of
-the goals lie on the table top (z at the cube's resting height), the other half in v0's
-band in the air. Goals are sampled in x [0.30, 0.50], y [0.10, 0.30] m; with probability
-0.5 z is the resting height, otherwise z [0.50, 0.60] m. A goal on the table can be met by
-pushing or carrying the cube there, so a sparse reward meets successes without a lift, as
-in Fetch (where the air half reaches 45 cm above the table).
-The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m. Success: the cube's centre is
-within 5 cm of the goal.
+The same arm, cube, table and timing as v0. One thing changes, to match
+FetchPickAndPlace, to find out why the arm learned more slowly than Fetch: half of the
+goals lie on the table top, the other half in v0's band in the air. A goal on the table
+can be met by pushing or carrying the cube there, so a sparse reward meets successes
+without a lift, as in Fetch (where the air half reaches 45 cm above the table).
 
-Observation (34,):
-{_OBJECT_TABLE}
-Goal (3,): achieved = cube centre, desired = goal point, m.
+{_PLACE_V1_START}
+
+{_SUCCESS_CUBE}
+
+{_OBJECT_OBS}
+
 {_MODES}
-Dense reward: as v0.
+
+{_GRASP_REWARDS}
+
 Version history: v0 initial; v1 half of the goals on the table (Fetch's distribution).
 """

@@ -15,6 +15,8 @@ CUBE_REST_Z = TABLE_Z + CUBE_HALF
 FINGER_ON_CUBE = 0.01
 #: Finger opening at reset, m (fully open).
 FINGER_OPEN = 0.04
+#: Where the grip site starts, pointing down, m (world): about 15 cm above the table.
+HOME_SITE = (0.45, 0.0, 0.58)
 
 #: ``qpos`` layout: the four arm joints, the two fingers, then the cube's free joint.
 QPOS_ARM, QPOS_FINGERS, QPOS_CUBE_POS = slice(0, 4), slice(4, 6), slice(6, 9)

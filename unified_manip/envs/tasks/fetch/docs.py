@@ -1,4 +1,5 @@
-"""The Fetch tasks' documentation pages (``unified-manip list --doc``)."""
+"""The Fetch tasks' documentation pages (``unified-manip list --doc``), in the labelled
+paragraphs the site's task pages put under their headings (see the arm's docs)."""
 
 from __future__ import annotations
 
@@ -31,16 +32,25 @@ per 0.04 s).
     17-19  object angular velocity                            rad/step
     20-22  grip-site linear velocity                          m/step
     23-24  finger velocities                                  m/step
-Goal (3,): achieved = object position, desired = goal point, m. Success: distance
-< 0.05 m (upstream's criterion); sparse reward = success - 1 = upstream's -(d > 0.05)."""
+Goal (3,): achieved = object position, desired = goal point, m."""
+
+_SUCCESS = """Success: the goal distance is the Euclidean distance between the {what} and the goal
+point, in metres; the threshold is upstream's, so the sparse reward, success - 1, equals
+upstream's -(d > threshold)."""
+
+_ROBOT_START = """Starting state: the robot at upstream's initial posture (no noise), the gripper
+{gripper}, at rest"""
 
 _HISTORY = """Version history: v0 initial (over {upstream}, gymnasium-robotics 1.4.2)."""
 
 REACH_DOC = f"""FetchReach: bring the Fetch gripper to a goal point (gymnasium-robotics FetchReach-v4).
 
-The goal is the initial grip position (1.342, 0.749, 0.535) m plus a uniform offset in
-[-0.15, 0.15] m on each axis. No object; the gripper is blocked closed. Success: the
-grip site is within 5 cm of the goal. 50 steps of 40 ms (20 substeps of 2 ms).
+No object; the gripper is blocked closed.
+
+{_ROBOT_START.format(gripper="at (1.342, 0.749, 0.535) m")}; the goal at that point plus a
+uniform offset in [-0.15, 0.15] m on each axis.
+
+{_SUCCESS.format(what="grip site")}
 
 Observation (10,) in native and the ee modes (upstream's vector exactly; +14 in the joint
 modes). Velocities are displacement per env step.
@@ -51,51 +61,76 @@ modes). Velocities are displacement per env step.
 Goal (3,): achieved = grip-site position, desired = goal point, m.
 
 {_MODES}
-Dense reward: shaping "reach": reach = 1 - tanh(5 d), success bonus 10.
+
+Rewards: with no object, the reach term reads the goal distance d_goal.
+
 {_HISTORY.format(upstream="FetchReach-v4")}
 """
+
+_CUBE_START = """the cube's xy within 15 cm (per axis, uniform) of the gripper's initial xy, drawn
+again until at least 10 cm from it, on the table, at rest"""
+
+_PUSH_REWARDS = """Rewards: grip_to_object is the distance from the grip site to the {what}'s centre (m);
+the place term has no grasp gate."""
 
 PUSH_DOC = f"""FetchPush: push a 5 cm cube (2 kg) across the table to a goal on the table
 (gymnasium-robotics FetchPush-v4).
 
-The cube starts within 15 cm (per axis) of the gripper's initial xy, at least 10 cm
-from it; the goal is within 15 cm (per axis) of the gripper's initial xy at the cube's
-resting height (z = 0.425). The gripper is blocked closed. 50 steps of 40 ms.
+The gripper is blocked closed.
+
+{_ROBOT_START.format(gripper="above the table")}; {_CUBE_START}; the goal within 15 cm
+(per axis, uniform) of the gripper's initial xy, at the cube's resting height (z = 0.425 m).
+
+{_SUCCESS.format(what="cube's centre")}
 
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: shaping "push": reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d))
-without a grasp gate, success bonus 10.
+
+{_PUSH_REWARDS.format(what="cube")}
+
 {_HISTORY.format(upstream="FetchPush-v4")}
 """
 
 SLIDE_DOC = f"""FetchSlide: hit a puck so that it slides along a low-friction table to a goal
 out of the arm's reach (gymnasium-robotics FetchSlide-v4).
 
-The puck starts within 10 cm (per axis) of the gripper's initial xy; the goal is
+The gripper is blocked closed.
+
+{_ROBOT_START.format(gripper="above the table")}; the puck within 10 cm (per axis,
+uniform) of the gripper's initial xy, drawn again until at least 10 cm from it; the goal
 0.4 m further in x plus a uniform offset within 30 cm (per axis), on the table
-(z = 0.42). The gripper is blocked closed. 50 steps of 40 ms.
+(z = 0.42 m).
+
+{_SUCCESS.format(what="puck's centre")}
 
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: shaping "push" (as FetchPush).
+
+{_PUSH_REWARDS.format(what="puck")}
+
 {_HISTORY.format(upstream="FetchSlide-v4")}
 """
 
 PICK_AND_PLACE_DOC = f"""FetchPickAndPlace: grasp a 5 cm cube (2 kg) and carry it to a goal, in the air
 half of the time (gymnasium-robotics FetchPickAndPlace-v4).
 
-The cube starts as in FetchPush; the goal is within 15 cm (per axis) of the
-gripper's initial xy at the cube's resting height, raised by U(0, 0.45) m with
-probability 1/2. The gripper is free. 50 steps of 40 ms.
+The gripper is free.
+
+{_ROBOT_START.format(gripper="above the table, open")}; {_CUBE_START}; the goal within
+15 cm (per axis, uniform) of the gripper's initial xy at the cube's resting height,
+raised by U(0, 0.45) m with probability 1/2.
+
+{_SUCCESS.format(what="cube's centre")}
 
 {_OBJECT_OBS}
 
 {_MODES}
-Dense reward: shaping "grasp": reach = 1 - tanh(5 |grip - cube|), place = 5 grasped
-(1 - tanh(5 d)), success bonus 10; ``grasped`` means both fingers touch the cube
-(MuJoCo contacts) with the grip site within 5 cm of its centre.
+
+Rewards: grip_to_object is the distance from the grip site to the cube's centre (m);
+grasped is 1 while both fingers touch the cube (MuJoCo contacts) with the grip site within
+5 cm of its centre.
+
 {_HISTORY.format(upstream="FetchPickAndPlace-v4")}
 """

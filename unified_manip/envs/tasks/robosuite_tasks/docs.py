@@ -1,4 +1,5 @@
-"""The robosuite tasks' documentation pages (``unified-manip list --doc``)."""
+"""The robosuite tasks' documentation pages (``unified-manip list --doc``), in the
+labelled paragraphs the site's task pages put under their headings (see the arm's docs)."""
 
 from __future__ import annotations
 
@@ -34,72 +35,99 @@ Sawyer 50, UR5e 53, IIWA/Kinova3/Jaco 58 (grippers with more joints)."""
 _INFO = """Info adds ``native_success`` (1.0/0.0, robosuite's ``_check_success()``) and
 ``native_reward`` (robosuite's own sparse reward for the step)."""
 
-_HISTORY = """Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz). Since the action modes became
-controller configs, rendered frames and camera images hide the collision geoms (group 0), as robosuite's
-renderer does; observations (low-dim), rewards and infos are unchanged. Since observation designs were
-added, ``camera_obs=True`` (an ``image`` key) is ``observation=['default', 'rgb']``."""
+_HISTORY = """Version history: v0 initial (robosuite {env} 1.5.2, control_freq 20 Hz). Later,
+without a version bump: rendered frames and camera images hide the collision geoms
+(group 0), as robosuite's renderer does, with observations (low-dim), rewards and infos
+unchanged; and the ``camera_obs=True`` option (an ``image`` key) became
+``observation=['default', 'rgb']``, the image groups every family has."""
+
+_ROBOT_START = """Starting state: the robot at robosuite's initial posture plus robosuite's default
+joint noise (Gaussian, magnitude 0.02), at rest"""
+
+_GRASP_REWARDS = """Rewards: grip_to_object is the distance from the grip site to the {what} (m);
+grasped is robosuite's check that the gripper holds the {what}."""
 
 LIFT_DOC = f"""Lift: pick up a cube (2 cm half-size) and hold it at a goal point above the table
 (robosuite Lift).
 
-The cube starts within 3 cm of the table centre (robosuite's placement). Goal: a
-point x, y ~ U(-0.1, 0.1) m around the table centre, z ~ U(0.10, 0.20) m above the
-table top (table top at z = 0.8 m, world frame). Success: the cube centre is within
-5 cm of it. 100 steps of 50 ms.
+The table top is at z = 0.8 m (world frame).
 
-{_OBS}
-Object state (10): cube position (3, m), cube quaternion (4), grip site to cube (3, m).
-Goal (3,): achieved = cube centre, desired = goal point, world frame, m.
+{_ROBOT_START}; the cube within 3 cm of the table centre (robosuite's placement); the
+goal x, y ~ U(-0.1, 0.1) m around the table centre, z ~ U(0.10, 0.20) m above the table
+top.
+
+Success: the goal distance is the Euclidean distance between the cube's centre and the
+goal point, in metres.
 
 Native success (robosuite): cube centre > 4 cm above the table top. Every goal is at
 least 10 cm up, so is_success implies native success; native success is looser (any
 lift counts).
 
-{_MODES}
-{_OPTIONS}
 {_INFO}
-Dense reward: shaping "grasp" (reach, grasped-gated place, success bonus).
+
+{_OBS}
+Object state (10): cube position (3, m), cube quaternion (4), grip site to cube (3, m).
+Goal (3,): achieved = cube centre, desired = goal point, world frame, m.
+
+{_MODES}
+
+{_GRASP_REWARDS.format(what="cube")}
+
+{_OPTIONS}
+
 {_HISTORY.format(env="Lift")}
 """
 
 STACK_DOC = f"""Stack: put cube A (2 cm half-size, red) on top of cube B (2.5 cm half-size, green)
 (robosuite Stack).
 
-Both cubes start in a 16 x 16 cm square at the table centre. Goal: cube B's centre at
-reset plus 4.5 cm (the two half-sizes) in z: cube A resting on B. It is not sampled
-beyond the scene, whose placement comes from the env's seed. Success: cube A's centre
-within 2 cm of it. 200 steps of 50 ms.
+The scripted ee_delta policy grasps A, raises it 4 cm over B's top and holds it there,
+so it meets is_success and not native success.
+
+{_ROBOT_START}; both cubes in a 16 x 16 cm square at the table centre (robosuite's
+placement, from the env's seed); the goal cube B's centre at reset plus 4.5 cm (the two
+half-sizes) in z: cube A resting on B. The goal is not sampled beyond the scene.
+
+Success: the goal distance is the Euclidean distance between cube A's centre and the
+goal point, in metres.
+
+Native success (robosuite): A lifted, touching B and not grasped. Differences by
+design: is_success does not require the gripper to let go, and is measured against
+B's position at reset (if B is pushed away the goal stays); native success needs
+contact with B wherever B is.
+
+{_INFO}
 
 {_OBS}
 Object state (23): cube A position (3, m) and quaternion (4), cube B position (3) and
 quaternion (4), A - B (3, m), grip to A (3, m), grip to B (3, m).
 Goal (3,): achieved = cube A centre, desired = top of cube B at reset, m.
 
-Native success (robosuite): A lifted, touching B and not grasped. Differences by
-design: is_success does not require the gripper to let go, and is measured against
-B's position at reset (if B is pushed away the goal stays); native success needs
-contact with B wherever B is. The scripted ee_delta policy grasps A, raises it 4 cm
-over B's top and holds it there, so it meets is_success and not native success.
-
 {_MODES}
+
+{_GRASP_REWARDS.format(what="cube A")}
+
 {_OPTIONS}
-{_INFO}
-Dense reward: shaping "grasp".
+
 {_HISTORY.format(env="Stack")}
 """
 
 CAN_DOC = f"""PickPlaceCan: pick up a can from the left bin and place it in its quadrant of the right
 bin (robosuite PickPlaceCan).
 
-The can starts anywhere in bin 1. Goal: a point in the can's quadrant of bin 2
-(x in [0.10, 0.295], y in [0.28, 0.525] m) at least 5 cm from the quadrant's walls,
-5 cm above the bin floor (z = 0.85 m). Success: the can's centre within 5 cm of it.
-200 steps of 50 ms.
+Reach: the quadrant is the far one from the robot (Panda base at (-0.56, 0)); most of
+it is out of reach with the gripper pointing straight down, so ee_delta tilts the
+gripper there (see ee_delta below). Even tilted, the Panda cannot carry the can to the
+goals of the far corner (x > ~0.22 and y > ~0.45 m, more than ~0.91 m from the base in
+x-y): the scripted ee_delta policy fails there (about 6% of goals). The goal
+distribution is left as is: those goals are in the bin, and other robots reach further.
 
-{_OBS}
-Object state (14): can position (3, m), quaternion (4), can relative to the eef in
-the eef frame: position (3, m) and quaternion (4).
-Goal (3,): achieved = can centre, desired = goal point, m.
+{_ROBOT_START}; the can anywhere in bin 1 (robosuite's placement); the goal a point in
+the can's quadrant of bin 2 (x in [0.10, 0.295], y in [0.28, 0.525] m) at least 5 cm
+from the quadrant's walls, 5 cm above the bin floor (z = 0.85 m).
+
+Success: the goal distance is the Euclidean distance between the can's centre and the
+goal point, in metres.
 
 Native success (robosuite): the can's centre inside its quadrant, between the bin
 floor and 10 cm above it, and the eef more than about 4.2 cm from the can (robosuite's
@@ -109,57 +137,55 @@ success; native success also counts any other point of the quadrant. Difference 
 design: is_success does not require letting go (a can held within 5 cm of the goal
 counts).
 
-Reach: the quadrant is the far one from the robot (Panda base at (-0.56, 0)); most of
-it is out of reach with the gripper pointing straight down, so ee_delta tilts the
-gripper there (see ee_delta below). Even tilted, the Panda cannot carry the can to the
-goals of the far corner (x > ~0.22 and y > ~0.45 m, more than ~0.91 m from the base in
-x-y): the scripted ee_delta policy fails there (about 6% of goals). The goal
-distribution is left as is: those goals are in the bin, and other robots reach further.
+{_INFO}
+
+{_OBS}
+Object state (14): can position (3, m), quaternion (4), can relative to the eef in
+the eef frame: position (3, m) and quaternion (4).
+Goal (3,): achieved = can centre, desired = goal point, m.
 
 {_MODES}
+
+{_GRASP_REWARDS.format(what="can")}
+
 {_OPTIONS}
-{_INFO}
-Dense reward: shaping "grasp".
+
 {_HISTORY.format(env="PickPlaceCan")}
 """
 
 NUT_DOC = f"""NutAssemblyRound: put the round nut on the round peg (robosuite NutAssemblyRound).
 
-The nut starts on the left of the table; the round peg is fixed at (0.23, -0.10) m.
-Goal: the peg's axis, at a height U(0.005, 0.02) m above the table top (z = 0.82 m)
-down the peg: the nut's body origin (ring centre) around the peg. Success: the nut's
-centre within 2 cm of it. 200 steps of 50 ms.
+The round peg is fixed at (0.23, -0.10) m; the table top is at z = 0.82 m.
+
+{_ROBOT_START}; the nut on the left of the table (robosuite's placement); the goal on
+the peg's axis at a height U(0.005, 0.02) m above the table top, down the peg: the nut's
+body origin (ring centre) around the peg.
+
+Success: the goal distance is the Euclidean distance between the nut's body origin and
+the goal point, in metres.
+
+Native success (robosuite): the nut within 3 cm of the peg axis in x and y, below
+5 cm above the table, and the gripper more than about 4 cm away. Differences by
+design: is_success does not require the gripper to have let go.
+
+{_INFO}
 
 {_OBS}
 Object state (14): nut position (3, m), quaternion (4), nut relative to the eef
 (3, m, and 4).
 Goal (3,): achieved = nut body position, desired = point on the peg, m.
 
-Native success (robosuite): the nut within 3 cm of the peg axis in x and y, below
-5 cm above the table, and the gripper more than about 4 cm away. Differences by
-design: is_success does not require the gripper to have let go.
-
 {_MODES}
+
+{_GRASP_REWARDS.format(what="nut")}
+
 {_OPTIONS}
-{_INFO}
-Dense reward: shaping "grasp".
+
 {_HISTORY.format(env="NutAssemblyRound")}
 """
 
 DOOR_DOC = f"""Door: turn the latch handle and open the door to a target angle (robosuite Door,
 latch on).
-
-The door frame is placed at robosuite's randomised position. Goal: a hinge angle
-~ U(0.35, 0.40) rad (the hinge's range is [0, 0.4]). Success: |angle - goal| < 0.05 rad.
-150 steps of 50 ms.
-
-{_OBS}
-Object state (14): door position (3, m), handle position (3, m), hinge angle (rad),
-door - eef (3, m), handle - eef (3, m), handle (latch) angle (rad).
-Goal (1,): achieved = hinge angle, desired = target angle, rad.
-
-Native success (robosuite): hinge angle > 0.3 rad. Every goal is at least 0.35 rad,
-so is_success implies native success.
 
 The door opens towards the robot (+y) only once the latch is turned down past ~1.2 rad
 (the latch_joint's range is [-1.57, 1.57]) and must be held there until the latch
@@ -170,10 +196,27 @@ over the lever from the front, presses it down along its arc with the fingertips
 ~1.4 rad, then swings the pressed point about the hinge to the goal angle (friction on
 the lever drags the door).
 
-{_MODES}
-{_OPTIONS}
+{_ROBOT_START}; the door frame at robosuite's randomised position, closed and latched;
+the goal a hinge angle ~ U(0.35, 0.40) rad (the hinge's range is [0, 0.4]).
+
+Success: the goal distance is |hinge angle - goal angle|, in radians.
+
+Native success (robosuite): hinge angle > 0.3 rad. Every goal is at least 0.35 rad,
+so is_success implies native success.
+
 {_INFO}
-Dense reward: shaping "push": reach = 1 - tanh(5 |grip - handle|), place = 5 (1 - tanh(5 d))
-on the angle error d (rad) without a grasp gate, success bonus 10.
+
+{_OBS}
+Object state (14): door position (3, m), handle position (3, m), hinge angle (rad),
+door - eef (3, m), handle - eef (3, m), handle (latch) angle (rad).
+Goal (1,): achieved = hinge angle, desired = target angle, rad.
+
+{_MODES}
+
+Rewards: the template is "push" (no grasp gate): grip_to_object is the distance from
+the grip site to the handle (m), and the place term reads the angle error (rad).
+
+{_OPTIONS}
+
 {_HISTORY.format(env="Door")}
 """

@@ -1,4 +1,5 @@
-"""The Shadow Hand tasks' documentation pages (``unified-manip list --doc``)."""
+"""The Shadow Hand tasks' documentation pages (``unified-manip list --doc``), in the
+labelled paragraphs the site's task pages put under their headings (see the arm's docs)."""
 
 from __future__ import annotations
 
@@ -16,10 +17,13 @@ effector or torque interface."""
 REACH_DOC = f"""HandReach: move the Shadow Hand's five fingertips to goal positions
 (gymnasium-robotics HandReach-v3).
 
-With probability 0.1 the goal is the initial fingertip layout; otherwise one finger's
-tip must meet the thumb's tip over the palm, the others keep their initial positions.
-Success: Euclidean distance over the 15 goal coordinates < 0.01 m (upstream's
-criterion); sparse reward = success - 1 = upstream's. 50 steps of 40 ms.
+Starting state: the hand at upstream's initial posture, at rest; the goal: with
+probability 0.1 the initial fingertip layout, otherwise one finger's tip must meet the
+thumb's tip over the palm while the others keep their initial positions.
+
+Success: the goal distance is the Euclidean distance over the 15 goal coordinates, in
+metres; threshold and criterion are upstream's, so the sparse reward, success - 1,
+equals upstream's.
 
 Observation (63,), upstream's vector exactly:
     0-23   joint angles (24 joints, upstream's order)             rad
@@ -28,7 +32,9 @@ Observation (63,), upstream's vector exactly:
 Goal (15,): achieved = fingertip positions, desired = their targets, m.
 
 {_MODES}
-Dense reward: shaping "reach": reach = 1 - tanh(5 d), success bonus 10.
+
+Rewards: with no object, the reach term reads the goal distance d_goal.
+
 Version history: v0 initial (over HandReach-v3, gymnasium-robotics 1.4.2).
 """
 
@@ -36,10 +42,14 @@ BLOCK_DOC = f"""HandManipulateBlock: move and rotate a block held on the Shadow 
 to a goal pose (gymnasium-robotics HandManipulateBlock-v1: random target position
 and full xyz target rotation).
 
-The block starts on the palm with a random rotation and a 5 mm position jitter; the
-goal position is the block's position plus an offset in x [-0.04, 0.04], y [-0.06,
-0.02], z [0, 0.06] m; the goal rotation is uniformly random. Success (upstream's):
-position error < 0.01 m and rotation error < 0.1 rad. 100 steps of 40 ms.
+Starting state: the hand at upstream's initial posture; the block on the palm with a
+uniformly random rotation and a 5 mm position jitter; the goal position the block's
+position plus an offset in x [-0.04, 0.04], y [-0.06, 0.02], z [0, 0.06] m, the goal
+rotation uniformly random.
+
+Success: the goal distance is max(position error, 0.1 m/rad x rotation error), so with
+the threshold of 0.01 a success is exactly upstream's criterion (position error < 0.01 m
+and rotation error < 0.1 rad); the sparse reward, success - 1, equals upstream's.
 
 Observation (61,), upstream's vector exactly:
     0-23   joint angles                                           rad
@@ -47,14 +57,13 @@ Observation (61,), upstream's vector exactly:
     48-53  block linear and angular velocity                      m/s, rad/s
     54-60  block pose: position, quaternion (w, x, y, z)          m, -
 Goal (7,): achieved = block pose, desired = goal pose (position m, unit quaternion).
-Goal distance = max(position error, 0.1 m/rad x rotation error), threshold 0.01, so
-success is exactly upstream's position-and-rotation criterion; sparse reward =
-success - 1 = upstream's sparse reward.
 
 {_MODES}
-Dense reward: shaping "push" (an object, no grasp gate): reach = 1 - tanh(5 |palm -
-block|) keeps the block near the palm, place = 5 (1 - tanh(5 d)), success bonus 10;
-``grasped`` is 1 while the block is on the hand (centre above z = 0.04 m, upstream's
-reset check), so dense_penalized's drop penalty (-10) fires when it falls off.
+
+Rewards: the template is "push" (an object, no grasp gate): grip_to_object is the
+distance from the palm to the block (m), so the reach term keeps the block near the
+palm; grasped is 1 while the block is on the hand (its centre above z = 0.04 m,
+upstream's reset check), so dense_penalized's drop term fires when it falls off.
+
 Version history: v0 initial (over HandManipulateBlock-v1, gymnasium-robotics 1.4.2).
 """
