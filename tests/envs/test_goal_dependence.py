@@ -79,6 +79,9 @@ def test_the_layout_of_the_goal_dependent_groups_follows_the_design():
     env = gym.make("UnifiedManip/Arm4Push-v0", observation=["goal_rel", "object_pos"], observation_distractors=2)
     assert env.unwrapped.goal_dependent_layout == {"goal_rel": slice(0, 3)}
     env.close()
+    env = gym.make("UnifiedManip/Arm4Push-v0")  # the default ends with goal - cube (the task page's 31-33)
+    assert env.unwrapped.goal_dependent_layout == {"goal_rel": slice(31, 34)}
+    env.close()
     env = gym.make("UnifiedManip/FetchPush-v0")
     assert env.unwrapped.goal_dependent_layout == {}
     env.close()

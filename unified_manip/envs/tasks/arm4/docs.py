@@ -12,6 +12,16 @@ _MODES = f"""{_MODES_HEAD}
 _MODES_25HZ = f"""{_MODES_HEAD}
 {modes_section(CONTROLLERS_25HZ)}"""
 
+
+def _her(entries: str, group: str) -> str:
+    """The HER paragraph: the default observation's last group depends on the goal."""
+    return f"""HER: entries {entries} ({group}, the ``goal_rel`` group) depend on the goal. SB3's
+HerReplayBuffer relabels ``desired_goal`` but not ``observation``, so it leaves them at the
+episode's goal in every relabelled transition. Use
+``unified_manip.training.GoalRelHerReplayBuffer``, a drop-in that moves them to the new goal;
+``unified-manip train`` does so by default."""
+
+
 _TABLE_HEAD = """\
     =====  ==========================================  ==========
     index  content                                     units
@@ -34,6 +44,8 @@ Observation (18,):
     15-17  goal - grip site                            m
 {_TABLE_END}
 Goal (3,): achieved = grip-site position, desired = goal point, m.
+
+{_her("15-17", "goal - grip site")}
 {_MODES}
 Dense reward: reach = 1 - tanh(5 d), success bonus 10.
 Version history: v0 initial.
@@ -52,6 +64,8 @@ _OBJECT_TABLE = f"""{_TABLE_HEAD}    0-3    joint angles j0..j3                 
     31-33  goal - cube                                 m
 {_TABLE_END}"""
 
+_OBJECT_HER = _her("31-33", "goal - cube")
+
 PUSH_DOC = f"""Arm4Push: push the cube across the table to a goal on the table.
 
 The cube starts at rest at x [0.40, 0.60], y [-0.10, 0.10] m; the goal lies on the
@@ -62,6 +76,8 @@ at least 10 cm from the cube. Success: the cube's centre is within 5 cm of the g
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
+
+{_OBJECT_HER}
 {_MODES}
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 (1 - tanh(5 d)) without a
 grasp gate, success bonus 10.
@@ -78,6 +94,8 @@ Success: the cube's centre is within 5 cm of the goal. 100 steps of 20 ms.
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
+
+{_OBJECT_HER}
 {_MODES}
 Dense reward: reach = 1 - tanh(5 |grip - cube|), place = 5 grasped (1 - tanh(5 d)),
 success bonus 10; ``grasped`` means both fingers touch the cube.
@@ -100,6 +118,8 @@ is within 5 cm of the goal.
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
+
+{_OBJECT_HER}
 {_MODES_25HZ}
 Dense reward: as v0.
 Version history: v0 initial; v1 Fetch's timing (25 Hz, 50 steps) and goals (no minimum
@@ -121,6 +141,8 @@ within 5 cm of the goal.
 Observation (34,):
 {_OBJECT_TABLE}
 Goal (3,): achieved = cube centre, desired = goal point, m.
+
+{_OBJECT_HER}
 {_MODES}
 Dense reward: as v0.
 Version history: v0 initial; v1 half of the goals on the table (Fetch's distribution).
