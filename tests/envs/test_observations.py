@@ -127,6 +127,7 @@ def test_list_doc_prints_the_groups():
     assert "  goal_rel        3  relative  yes      m (goal - grip site)\n" in text
     assert "  ee_vel          3  velocity           m/s (grip site, world)\n" in text
     assert "  minimal (9): joint_pos, gripper, ee_pos" in text
+    assert "Goal-dependent (desired goal minus state; a HER buffer must relabel them too): goal_rel\n" in text
 
 
 # ---------------------------------------------------------------------- goals stay exact

@@ -46,7 +46,7 @@ def test_the_defaults_are_stated_once_and_read_flat():
         "normalize": False,
         "device": "auto",
         "n_envs": 1,
-        "relabel_goal_rel": False,
+        "relabel_goal_rel": True,
         "compile_loss": False,
         "demonstrations": 0,
         "bc_steps": 0,

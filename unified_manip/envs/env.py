@@ -171,6 +171,12 @@ class UnifiedManipEnv(GoalEnv):
         slice of the ``observation`` vector."""
         return dict(self._stream.layout)
 
+    @property
+    def goal_dependent_layout(self) -> dict[str, slice]:
+        """The groups of :attr:`observation_layout` that are ``desired_goal`` minus a state
+        quantity (``goal_rel``): a replay buffer that relabels goals must move them too."""
+        return dict(self._stream.goal_layout)
+
     def state_observation(self) -> dict[str, np.ndarray]:
         """The state now as the default design shows it, exact (no distractors, noise or
         delay), whatever this env's design: what the tasks' scripted policies read, so that

@@ -36,6 +36,10 @@ def observation_groups_doc(task_id: str, action_mode: str | None = None) -> str:
     for preset, names in presets.items():
         size = sum(next(r[1] for r in rows if r[0] == n) for n in names)
         lines.append(f"  {preset} ({size}): {', '.join(names)}")
+    moving = [name for name, g in groups.items() if g.goal_dependent]
+    lines.append(
+        f"Goal-dependent (desired goal minus state; a HER buffer must relabel them too): {', '.join(moving) or 'none'}"
+    )
     cameras = ", ".join(setup.task.cameras)
     lines.append(
         "Image groups: rgb (uint8, H x W x 3), depth (float32 m, H x W x 1), e.g. observation=['default', 'rgb'], "

@@ -63,11 +63,17 @@ class ObservationGroup:
         units: Units of its entries, as the docs list them (e.g. ``"rad"``, ``"m"``).
         read: ``backend -> values``: the group's entries from the backend's current state.
         kind: One of :data:`KINDS`; decides which presets include it.
+        goal_dependent: Its entries are ``desired_goal`` minus a quantity of the state,
+            entry for entry (``goal_rel``): another goal moves them by the goal's change.
+            Hindsight relabelling, which swaps the goal of a stored transition, must move
+            them too (``unified_manip.training.GoalRelHerReplayBuffer`` does). Every other
+            group is independent of the goal (tested on every ID, by measurement).
     """
 
     units: str
     read: Callable[[Any], np.ndarray]
     kind: str = "state"
+    goal_dependent: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -77,6 +83,12 @@ class ObservationGroup:
 def goal_rel(backend: Any) -> np.ndarray:
     """``desired_goal - achieved_goal`` (the shared ``goal_rel`` group)."""
     return np.asarray(backend.desired_goal(), dtype=np.float64) - np.asarray(backend.achieved_goal(), dtype=np.float64)
+
+
+def goal_rel_group(units: str) -> ObservationGroup:
+    """The shared ``goal_rel`` group (``desired_goal - achieved_goal``, in ``units``): a
+    relative vector that depends on the goal."""
+    return ObservationGroup(units, goal_rel, "relative", goal_dependent=True)
 
 
 def validate_noise(noise: Any) -> None:
@@ -171,6 +183,8 @@ class ObservationStream:
         for name in names:
             self.layout[name] = slice(start, start + sizes[name])
             start += sizes[name]
+        #: The groups of ``layout`` that depend on the goal (``ObservationGroup.goal_dependent``).
+        self.goal_layout = {n: self.layout[n] for n in names if groups[n].goal_dependent}
         self._distractors = distractors
         if distractors:
             self.layout["distractors"] = slice(start, start + distractors)

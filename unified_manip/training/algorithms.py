@@ -44,6 +44,10 @@ class Algo:
             policy: The run's ``policy`` hyperparameter (an alias such as
                 ``"MultiInputPolicy"``, or a class); None: unpickled from the file.
             **kwargs: ``env``, ``device``, ... as for SB3's ``load``.
+
+        A HER model saved without ``goal_rel`` in its ``replay_buffer_kwargs`` (every run
+        trained before the harness stated it: with SB3's relabelling) keeps SB3's
+        relabelling; the buffer would otherwise read the env's goal-dependent groups.
         """
         cls = self.cls()
         custom: dict[str, Any] = {}
@@ -51,7 +55,12 @@ class Algo:
             custom["policy_class"] = cls.policy_aliases[policy] if isinstance(policy, str) else policy
         if self.her and self.buffer.startswith("unified_manip."):
             custom["replay_buffer_class"] = self.buffer_cls()
-        return cls.load(path, custom_objects=custom or None, **kwargs)
+        model = cls.load(path, custom_objects=custom or None, **kwargs)
+        if self.her and "goal_rel" not in model.replay_buffer_kwargs:
+            model.replay_buffer_kwargs = {**model.replay_buffer_kwargs, "goal_rel": ()}
+            if model.replay_buffer is not None:
+                model.replay_buffer.goal_rel = ()
+        return model
 
 
 ALGOS: dict[str, Algo] = {

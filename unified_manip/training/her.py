@@ -1,38 +1,50 @@
-"""Hindsight relabelling that keeps the observation's ``goal_rel`` group on the new goal.
+"""Hindsight relabelling that keeps the goal-dependent observation groups on the new goal.
 
 Stable-Baselines3's :class:`~stable_baselines3.HerReplayBuffer` relabels a sampled
 transition by replacing its ``desired_goal`` with a goal achieved later in the episode, and
 recomputes the reward. The ``observation`` vector stays as it was stored. An observation
-design with the ``goal_rel`` group (``desired_goal - achieved_goal``, see
+with a group that depends on the goal (``goal_rel``, ``desired_goal - achieved_goal``: the
+4-DOF arm's default, and the ``relative`` and ``full`` designs everywhere; see
 :mod:`unified_manip.envs.observations`) then shows the episode's own goal beside the new
 ``desired_goal``: the relabelled transition contradicts itself.
 
-:class:`GoalRelHerReplayBuffer` moves each ``goal_rel`` slice by the goal's change,
-``new_goal - stored_goal``, before the observation is normalised. The stored value is
-shifted, not recomputed, so the sensor model stays as it was: noise on ``goal_rel`` is
-kept, and a delayed observation keeps its old achieved goal. With no slices (the default,
-and every model saved before the buffer had them) it samples exactly as SB3's buffer.
+:class:`GoalRelHerReplayBuffer` is a drop-in for SB3's buffer that moves those groups by
+the goal's change, ``new_goal - stored_goal``, before the observation is normalised. The
+stored value is shifted, not recomputed, so the sensor model stays as it was: noise on
+``goal_rel`` is kept, and a delayed observation keeps its old achieved goal. It reads
+which slices to move from the env (``env.unwrapped.goal_dependent_layout``)::
 
-The run setting ``relabel_goal_rel`` (:class:`~unified_manip.training.settings.RunConfig`)
-turns it on; the slices then go into ``replay_buffer_kwargs``, which the saved model keeps,
-so a run resumes with the relabelling it was trained with.
+    from stable_baselines3 import SAC
+    from unified_manip.training import GoalRelHerReplayBuffer
+
+    model = SAC("MultiInputPolicy", env, replay_buffer_class=GoalRelHerReplayBuffer,
+                replay_buffer_kwargs=dict(n_sampled_goal=4, goal_selection_strategy="future"))
+
+The HER algorithms of ``unified-manip train`` use it, with the run setting
+``relabel_goal_rel`` (:class:`~unified_manip.training.settings.RunConfig`, true by default)
+deciding: the slices (none where it is false) go into ``replay_buffer_kwargs``, which the
+saved model keeps, so a run resumes with the relabelling it was trained with.
 """
 
 from __future__ import annotations
 
-from typing import Any, Mapping, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from stable_baselines3 import HerReplayBuffer
 
-#: The observation group that holds ``desired_goal - achieved_goal``.
-GOAL_REL = "goal_rel"
+#: The env attribute that names the goal-dependent groups of ``observation`` and their
+#: slices (:attr:`unified_manip.envs.env.UnifiedManipEnv.goal_dependent_layout`).
+GOAL_DEPENDENT_LAYOUT = "goal_dependent_layout"
 
 
-def goal_rel_slices(layout: Mapping[str, slice]) -> tuple[tuple[int, int], ...]:
-    """``(start, stop)`` of the ``goal_rel`` group in an ``observation_layout`` (empty: none)."""
-    part = layout.get(GOAL_REL)
-    return () if part is None else ((int(part.start), int(part.stop)),)
+def goal_dependent_slices(env: Any) -> tuple[tuple[int, int], ...]:
+    """``(start, stop)`` of each goal-dependent group of a vector env's ``observation``
+    (empty: none, or an env that does not say, i.e. not a unified_manip env)."""
+    if env is None or not env.has_attr(GOAL_DEPENDENT_LAYOUT):
+        return ()
+    layout = env.get_attr(GOAL_DEPENDENT_LAYOUT, [0])[0]
+    return tuple((int(part.start), int(part.stop)) for part in layout.values())
 
 
 class GoalRelHerReplayBuffer(HerReplayBuffer):
@@ -40,8 +52,9 @@ class GoalRelHerReplayBuffer(HerReplayBuffer):
 
     Args:
         goal_rel: ``(start, stop)`` slices of the ``observation`` vector that hold
-            ``desired_goal - achieved_goal`` (:func:`goal_rel_slices`); each is as wide as
-            the goal. Empty: SB3's relabelling as it is.
+            ``desired_goal`` minus a state quantity; each is as wide as the goal. None
+            (the default): the env's goal-dependent groups (:func:`goal_dependent_slices`).
+            Empty: SB3's relabelling as it is.
 
     The other arguments are :class:`~stable_baselines3.HerReplayBuffer`'s.
     """
@@ -50,8 +63,10 @@ class GoalRelHerReplayBuffer(HerReplayBuffer):
     #: checkpoints written before the HER algorithms used it.
     restores_from: tuple[str, ...] = (f"{HerReplayBuffer.__module__}.{HerReplayBuffer.__qualname__}",)
 
-    def __init__(self, *args: Any, goal_rel: Sequence[Sequence[int]] = (), **kwargs: Any) -> None:
+    def __init__(self, *args: Any, goal_rel: Sequence[Sequence[int]] | None = None, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
+        if goal_rel is None:
+            goal_rel = goal_dependent_slices(self.env)
         self.goal_rel = tuple((int(start), int(stop)) for start, stop in goal_rel)
         if self.goal_rel:
             _check_slices(self.goal_rel, self.obs_shape)

@@ -88,8 +88,9 @@ def model_kwargs(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, en
     observation with image keys, a CNN per image key
     (:class:`~unified_manip.training.images.ImageExtractor`).
 
-    With ``run.relabel_goal_rel``, the HER buffer also gets the ``goal_rel`` slices of the
-    env's ``observation_layout`` (none there: nothing to move)."""
+    The HER buffer gets the slices of the goal-dependent groups of the env's observation
+    (``goal_dependent_layout``) where ``run.relabel_goal_rel``, else none, always stated in
+    ``replay_buffer_kwargs``: the saved model keeps them (:mod:`unified_manip.training.her`)."""
     algo = get_algo(algo_name)
     kwargs = dict(algo_kwargs)
     from unified_manip.training.images import has_images, with_image_extractor
@@ -97,12 +98,11 @@ def model_kwargs(algo_name: str, algo_kwargs: dict[str, Any], run: RunConfig, en
     if has_images(env.observation_space):
         kwargs["policy_kwargs"] = with_image_extractor(kwargs.get("policy_kwargs"))
     if algo.her:
-        from unified_manip.training.her import goal_rel_slices
+        from unified_manip.training.her import goal_dependent_slices
 
         kwargs["replay_buffer_class"] = algo.buffer_cls()
-        slices = goal_rel_slices(env.get_attr("observation_layout", [0])[0]) if run.relabel_goal_rel else ()
-        if slices:
-            kwargs["replay_buffer_kwargs"] = {**(kwargs.get("replay_buffer_kwargs") or {}), "goal_rel": slices}
+        slices = goal_dependent_slices(env) if run.relabel_goal_rel else ()
+        kwargs["replay_buffer_kwargs"] = {**(kwargs.get("replay_buffer_kwargs") or {}), "goal_rel": slices}
     if run.action_noise_std is not None:
         from stable_baselines3.common.noise import NormalActionNoise
 

@@ -125,12 +125,13 @@ class RunConfig:
     """Where the run executes (``train --device`` overrides it); not compared on resume."""
     n_envs: int = _setting(1, POSITIVE)
     """Parallel training envs (``train --n-envs`` and a grid's ``n_envs`` override it)."""
-    relabel_goal_rel: bool = _setting(False, FLAG)
-    """HER: a relabelled transition's observation gets ``goal_rel`` (goal - achieved goal)
-    for its new goal, shifted by the goal's change (:mod:`unified_manip.training.her`).
-    False: SB3's relabelling, which leaves ``goal_rel`` at the episode's goal, as every run
-    before this setting was trained. Only designs with ``goal_rel`` differ (the arm's
-    ``default``; ``relative`` and ``full`` everywhere)."""
+    relabel_goal_rel: bool = _setting(True, FLAG)
+    """HER: a relabelled transition's observation gets its goal-dependent groups
+    (``goal_rel``, goal - achieved goal) for its new goal, shifted by the goal's change
+    (:mod:`unified_manip.training.her`). False: SB3's relabelling, which leaves
+    ``goal_rel`` at the episode's goal, as every committed run before this default was
+    trained (their ``config.yaml`` says ``relabel_goal_rel: false``). Only designs with
+    ``goal_rel`` differ (the arm's ``default``; ``relative`` and ``full`` everywhere)."""
     compile_loss: bool = _setting(False, FLAG)
     """TQC: ``torch.compile`` its quantile Huber loss (about 1.5x faster updates on one core; see
     :mod:`unified_manip.training.speedups`)."""

@@ -304,6 +304,11 @@ class NativeVectorEnv(VectorEnv):
         """Each group of the observation design, in order, with its slice of ``observation``."""
         return dict(self._streams[0].layout)
 
+    @property
+    def goal_dependent_layout(self) -> dict[str, slice]:
+        """The groups of ``observation_layout`` that depend on the goal (as the single env's)."""
+        return dict(self._streams[0].goal_layout)
+
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         for i, stream in enumerate(self._streams):

@@ -22,6 +22,16 @@ _MODES = f"""{_MODES_HEAD}
 _MODES_25HZ = f"""{_MODES_HEAD}
 {modes_section(CONTROLLERS_25HZ)}"""
 
+
+def _her(entries: str, group: str) -> str:
+    """The HER paragraph: the default observation's last group depends on the goal."""
+    return f"""HER: entries {entries} ({group}, the ``goal_rel`` group) depend on the goal. SB3's
+HerReplayBuffer relabels ``desired_goal`` but not ``observation``, so it leaves them at the
+episode's goal in every relabelled transition. Use
+``unified_manip.training.GoalRelHerReplayBuffer``, a drop-in that moves them to the new goal;
+``unified-manip train`` does so by default."""
+
+
 _TABLE_HEAD = """\
     =====  ==========================================  ==========
     index  content                                     units
@@ -70,6 +80,7 @@ Observation (18,):
 {_TABLE_END}
 Goal (3,): achieved = grip-site position, desired = goal point, m.
 
+{_her("15-17", "goal - grip site")}
 {_MODES}
 
 Rewards: with no object, the reach term reads the goal distance d_goal.
@@ -90,9 +101,13 @@ _OBJECT_TABLE = f"""{_TABLE_HEAD}    0-3    joint angles j0..j3                 
     31-33  goal - cube                                 m
 {_TABLE_END}"""
 
+_OBJECT_HER = _her("31-33", "goal - cube")
+
 _OBJECT_OBS = f"""Observation (34,):
 {_OBJECT_TABLE}
-Goal (3,): achieved = cube centre, desired = goal point, m."""
+Goal (3,): achieved = cube centre, desired = goal point, m.
+
+{_OBJECT_HER}"""
 
 _PUSH_REWARDS = """Rewards: grip_to_object is the distance from the grip site to the cube's centre (m);
 the place term has no grasp gate."""

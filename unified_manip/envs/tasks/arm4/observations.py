@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 from unified_manip.envs.tasks.arm4.scene import QPOS_ARM, QPOS_CUBE_POS, QPOS_FINGERS
 
 QPOS_CUBE_QUAT, QVEL_CUBE = slice(9, 13), slice(6, 12)
@@ -38,9 +38,9 @@ OBJECT_GROUPS: dict[str, G] = {
     "object_rot": G("quaternion (w, x, y, z)", lambda b: b.data.qpos[QPOS_CUBE_QUAT]),
     "object_vel": G("m/s, rad/s (cube free joint)", lambda b: b.data.qvel[QVEL_CUBE], "velocity"),
     "object_rel": G("m (cube - grip site)", lambda b: b.data.qpos[QPOS_CUBE_POS] - _grip(b), "relative"),
-    "goal_rel": G("m (goal - cube)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("m (goal - cube)"),
 }
-REACH_GROUPS: dict[str, G] = {**ROBOT_GROUPS, "goal_rel": G("m (goal - grip site)", goal_rel, "relative")}
+REACH_GROUPS: dict[str, G] = {**ROBOT_GROUPS, "goal_rel": goal_rel_group("m (goal - grip site)")}
 
 #: Today's vectors (``Arm4Backend.observation``), group by group.
 REACH_DEFAULT = ("joint_pos", "gripper", "joint_vel", "gripper_vel", "ee_pos", "goal_rel")

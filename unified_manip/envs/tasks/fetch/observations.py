@@ -4,7 +4,7 @@ are upstream's: multiplied by the step's dt), and its default vectors (no simula
 from __future__ import annotations
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 
 
 def _up(s: slice):
@@ -22,7 +22,7 @@ REACH_GROUPS: dict[str, G] = {
     "ee_vel": G("m per step (grip site velocity x dt)", _up(slice(5, 8)), "velocity"),
     "gripper_vel": G("m per step (finger velocities x dt)", _up(slice(8, 10)), "velocity"),
     **_ROBOT,
-    "goal_rel": G("m (goal - grip site)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("m (goal - grip site)"),
 }
 #: The object tasks' groups: upstream's ``[grip_pos, object_pos, object_rel_pos,
 #: gripper_state, object_rot, object_velp, object_velr, grip_velp, gripper_vel]``.
@@ -36,7 +36,7 @@ OBJECT_GROUPS: dict[str, G] = {
     "ee_vel": G("m per step (grip site velocity x dt)", _up(slice(20, 23)), "velocity"),
     "gripper_vel": G("m per step (finger velocities x dt)", _up(slice(23, 25)), "velocity"),
     **_ROBOT,
-    "goal_rel": G("m (goal - object)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("m (goal - object)"),
 }
 
 #: Upstream's vectors, group by group; the joint modes append the arm's joints.

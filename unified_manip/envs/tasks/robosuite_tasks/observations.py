@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 
 #: robosuite's proprioceptive observables (without the ``robot0_`` prefix): group name,
 #: units, kind.
@@ -53,5 +53,5 @@ def suite_groups(up: Any) -> tuple[dict[str, G], tuple[str, ...]]:
             groups[key] = _object_group(key)
     default = tuple(groups)
     groups["object_rel"] = G("m (object - grip site)", _object_rel, "relative")
-    groups["goal_rel"] = G("goal units (goal - achieved goal)", goal_rel, "relative")
+    groups["goal_rel"] = goal_rel_group("goal units (goal - achieved goal)")
     return groups, default

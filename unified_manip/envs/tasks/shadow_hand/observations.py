@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 
 
 def _up(start: int, stop: int):
@@ -18,14 +18,14 @@ _JOINTS: dict[str, G] = {
 REACH_GROUPS: dict[str, G] = {
     **_JOINTS,
     "fingertip_pos": G("m (5 fingertips, world)", _up(48, 63)),
-    "goal_rel": G("m (goal - fingertips)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("m (goal - fingertips)"),
 }
 BLOCK_GROUPS: dict[str, G] = {
     **_JOINTS,
     "object_vel": G("m/s, rad/s (block free joint)", _up(48, 54), "velocity"),
     "object_pos": G("m (block centre, world)", _up(54, 57)),
     "object_rot": G("quaternion (w, x, y, z)", _up(57, 61)),
-    "goal_rel": G("m, quaternion difference (goal - block pose)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("m, quaternion difference (goal - block pose)"),
 }
 REACH_DEFAULT = ("joint_pos", "joint_vel", "fingertip_pos")
 BLOCK_DEFAULT = ("joint_pos", "joint_vel", "object_vel", "object_pos", "object_rot")

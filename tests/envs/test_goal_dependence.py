@@ -1,0 +1,90 @@
+"""Which observation groups depend on the goal, measured on every ID, against the groups
+marked ``goal_dependent`` (the ones HER relabelling moves; :mod:`unified_manip.training.her`).
+
+Two envs of one ID reset with different seeds hold different goals. Both are put at one
+physics state and stepped alike; every group that then differs between them depends on
+the goal. A marked group must differ by exactly the change of ``desired_goal`` (the
+relabelling shifts it by that change), every other group not at all.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import unified_manip
+
+#: The goal-dependent groups of each family's default observation (the arm's ends with
+#: goal - cube, or goal - grip site on Reach; Fetch, the Shadow Hand and robosuite keep
+#: upstream's vectors, which hold no goal). A new family is listed here once measured.
+DEFAULT_GOAL_DEPENDENT = {"arm4": {"goal_rel"}, "fetch": set(), "shadow_hand": set(), "robosuite": set()}
+
+#: Action modes whose controller keeps no memory of the episode, so two envs put at one
+#: physics state step alike (the target-holding modes would carry each env's reset along).
+STATELESS_MODES = ("joint_torque", "joint_delta")
+
+#: Steps after the common state: robosuite's object observables read the grip pose of the
+#: step before, which the second step makes common too.
+STEPS = 2
+
+
+def _at_one_state_with_two_goals(task_id: str):
+    """Two envs of ``task_id`` (design ``full``) with different goals, put at one physics
+    state and stepped alike; their last observations and the envs."""
+    spec = unified_manip.TASKS[task_id]
+    mode = next(m for m in STATELESS_MODES if m in spec.action_modes)
+    envs = [gym.make(task_id, action_mode=mode, observation="full") for _ in range(2)]
+    for seed, env in enumerate(envs):
+        env.reset(seed=seed)
+    first, second = (env.unwrapped.backend for env in envs)
+    # The scene's fixed placements live in the model (robosuite places Door's frame by
+    # moving its body): the second env takes the first's.
+    second.model.body_pos[:] = first.model.body_pos
+    second.model.body_quat[:] = first.model.body_quat
+    state = first.get_state()
+    # Both go through set_state's mj_forward, so the derived quantities agree too.
+    first.set_state(second.get_state())
+    first.set_state(state)
+    second.set_state(state)
+    action = np.zeros(envs[0].action_space.shape, dtype=np.float32)
+    for _ in range(STEPS):
+        obs = [env.step(action)[0] for env in envs]
+    return obs, envs
+
+
+@pytest.mark.parametrize("task_id", list(unified_manip.TASKS), ids=lambda t: t.split("/")[1])
+def test_the_groups_that_depend_on_the_goal_are_the_marked_ones(task_id):
+    (a, b), envs = _at_one_state_with_two_goals(task_id)
+    np.testing.assert_array_equal(a["achieved_goal"], b["achieved_goal"])  # one physics state
+    goal_change = a["desired_goal"] - b["desired_goal"]
+    assert np.abs(goal_change).max() > 1e-3, "the two seeds drew the same goal: nothing to measure"
+    env = envs[0].unwrapped
+    marked = env.goal_dependent_layout
+    measured = set()
+    for name, part in env.observation_layout.items():
+        change = a["observation"][part] - b["observation"][part]
+        if np.any(change != 0):
+            measured.add(name)
+        if name in marked:
+            np.testing.assert_allclose(change, goal_change, atol=1e-5, err_msg=name)
+    assert measured == set(marked), f"depend on the goal: {sorted(measured)}; marked: {sorted(marked)}"
+    default = set(env.backend.default_observation())
+    assert default & measured == DEFAULT_GOAL_DEPENDENT[unified_manip.TASKS[task_id].family]
+    for e in envs:
+        e.close()
+
+
+def test_the_layout_of_the_goal_dependent_groups_follows_the_design():
+    env = gym.make("UnifiedManip/Arm4Push-v0", observation=["goal_rel", "object_pos"], observation_distractors=2)
+    assert env.unwrapped.goal_dependent_layout == {"goal_rel": slice(0, 3)}
+    env.close()
+    env = gym.make("UnifiedManip/Arm4Push-v0")  # the default ends with goal - cube (the task page's 31-33)
+    assert env.unwrapped.goal_dependent_layout == {"goal_rel": slice(31, 34)}
+    env.close()
+    env = gym.make("UnifiedManip/FetchPush-v0")
+    assert env.unwrapped.goal_dependent_layout == {}
+    env.close()
+    vec = gym.make_vec("UnifiedManip/Arm4Reach-v0", num_envs=2, vectorization_mode="vector_entry_point")
+    assert vec.unwrapped.goal_dependent_layout == {"goal_rel": slice(15, 18)}
+    vec.close()
