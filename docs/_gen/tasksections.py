@@ -93,15 +93,15 @@ def term_formula(fn) -> str:
     return doc.split(":")[0].strip("`. ")  # a term set's own term: its docstring's formula
 
 
-def reward_rows(terms) -> list[str]:
-    """Markdown rows: each ``reward_type``'s terms for a task of term set ``terms``,
+def reward_rows(term_set) -> list[str]:
+    """Markdown rows: each ``reward_type``'s terms for a task of term set ``term_set``,
     with their scales, from the reward design the env builds (``EnvConfig.reward_design``)."""
     from unified_manip.envs.config import EnvConfig
     from unified_manip.envs.rewards import REWARD_TYPES
 
     rows = ['| `reward_type` | reward = sum of the terms (`info["reward_terms"]` key: scale × term) |', "|---|---|"]
     for reward_type in REWARD_TYPES:
-        spec = EnvConfig(reward_type=reward_type).reward_design(terms)
+        spec = EnvConfig(reward_type=reward_type).reward_design(term_set)
         terms = "; ".join(f"`{t.name}`: {t.scale:g} × ({term_formula(t.fn)})" for t in spec.terms)
         rows.append(f"| `{reward_type}` | {terms} |")
     return rows
