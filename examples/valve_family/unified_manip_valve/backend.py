@@ -119,10 +119,6 @@ class ValveBackend(Backend):
         """The valve's angle, rad, wrapped to ``[-pi, pi)``."""
         return float(wrap(self.data.qpos[self.valve_q]))
 
-    def goal_delta(self) -> float:
-        """Target angle - valve angle, wrapped, rad."""
-        return float(wrap(self._goal - self.valve_angle()))
-
     def observation(self) -> np.ndarray:
         return np.concatenate([np.asarray(obs.GROUPS[n].read(self), dtype=np.float64) for n in obs.DEFAULT])
 

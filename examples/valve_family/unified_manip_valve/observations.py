@@ -10,11 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup as G
-
-
-def _goal_rel(b) -> np.ndarray:
-    return np.atleast_1d(b.goal_delta())
-
+from unified_manip.envs.observations import goal_rel
 
 #: Every group, in the order the ``"full"`` preset concatenates them. The shared names
 #: (``joint_pos``, ``ee_pos``, ``object_pos``, ``object_rel``, ``goal_rel``, ...) mean what
@@ -32,7 +28,9 @@ GROUPS: dict[str, G] = {
         lambda b: b.data.site_xpos[b.handle_site] - b.data.site_xpos[b.rig.site_id],
         "relative",
     ),
-    "goal_rel": G("rad (target - valve angle, wrapped)", _goal_rel, "relative"),
+    # desired - achieved, as on every family (hindsight relabelling recomputes it so),
+    # not wrapped: from -2 pi to 2 pi.
+    "goal_rel": G("rad (target - valve angle)", goal_rel, "relative"),
 }
 
 #: The default observation vector, group by group.

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from unified_manip_valve.observations import default_slices
-from unified_manip_valve.scene import HANDLE_RADIUS, LINKS, VALVE_AXIS
+from unified_manip_valve.scene import HANDLE_RADIUS, LINKS, VALVE_AXIS, wrap
 
 #: Fingertip radius + handle radius + 8 mm: the tip stands this far behind the handle.
 BEHIND = 0.03
@@ -82,6 +82,7 @@ def turn_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     toward this step's target (a straight line in the plane, not in joint space)."""
     o = obs["observation"]
     tip = o[_S["ee_pos"]][:2]
-    move = fingertip_target(tip, float(o[_S["valve_angle"]][0]), float(o[_S["goal_rel"]][0])) - tip
+    error = float(wrap(o[_S["goal_rel"]][0]))  # goal_rel is not wrapped
+    move = fingertip_target(tip, float(o[_S["valve_angle"]][0]), error) - tip
     move *= min(1.0, STEP / max(float(np.linalg.norm(move)), 1e-9))
     return np.clip((finger_ik(tip + move) - o[_S["joint_pos"]]) / MAX_DELTA, -1.0, 1.0).astype(np.float32)
