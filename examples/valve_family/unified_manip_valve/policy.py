@@ -86,3 +86,25 @@ def turn_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
     move = fingertip_target(tip, float(o[_S["valve_angle"]][0]), error) - tip
     move *= min(1.0, STEP / max(float(np.linalg.norm(move)), 1e-9))
     return np.clip((finger_ik(tip + move) - o[_S["joint_pos"]]) / MAX_DELTA, -1.0, 1.0).astype(np.float32)
+
+
+def success_rate(seeds, action_mode: str = "joint_delta") -> float:
+    """The share of seeded episodes that end in success under :func:`turn_policy`."""
+    import gymnasium as gym
+
+    env = gym.make("UnifiedManip/ValveTurn-v0", action_mode=action_mode)
+    successes = 0.0
+    for seed in seeds:
+        obs, info = env.reset(seed=seed)
+        for _ in range(env.spec.max_episode_steps):
+            obs, _, _, _, info = env.step(turn_policy(obs))
+        successes += info["is_success"]
+    env.close()
+    return successes / len(seeds)
+
+
+if __name__ == "__main__":  # python -m unified_manip_valve.policy [EPISODES [FIRST_SEED]]
+    import sys
+
+    n, first = (int(a) for a in (sys.argv[1:] + ["200", "0"][len(sys.argv) - 1 :])[:2])
+    print(f"success {success_rate(range(first, first + n)):.3f} over {n} episodes, seeds {first}-{first + n - 1}")
