@@ -14,6 +14,7 @@ import numpy as np
 
 from unified_manip_valve.observations import default_slices
 from unified_manip_valve.scene import HANDLE_RADIUS, LINKS, VALVE_AXIS, wrap
+from unified_manip_valve.specs import CONTROLLERS
 
 #: Fingertip radius + handle radius + 8 mm: the tip stands this far behind the handle.
 BEHIND = 0.03
@@ -29,8 +30,8 @@ STAGING = 0.035
 HOLD = 0.08
 #: The fingertip moves at most this far toward its target per step, m.
 STEP = 0.01
-#: The ``joint_delta`` step at ``|a| = 1``, rad (the family's ``max_delta``).
-MAX_DELTA = 0.05
+#: The ``joint_delta`` step at ``|a| = 1``, rad.
+MAX_DELTA = CONTROLLERS["joint_delta"].max_delta
 
 _S = default_slices()
 
@@ -58,8 +59,8 @@ def fingertip_target(tip: np.ndarray, angle: float, error: float) -> np.ndarray:
     In the handle's frame (``along``: the way the valve must turn; ``out``: away from the
     axis), the tip pushes when it is just behind the handle; backs straight out when it is
     next to the handle on the other side; comes straight in when it is behind the handle
-    and outside the rim; and otherwise goes to ``STAGING`` m outside the
-    rim, behind the handle. Within ``HOLD`` of the target it stays where it is."""
+    and outside the rim; and otherwise goes to ``STAGING`` m outside the rim, behind the
+    handle. Within ``HOLD`` of the target it stays where it is."""
     direction = 1.0 if error > 0 else -1.0
     handle, radial = _rim(angle)
     tangent = direction * np.array([-radial[1], radial[0]])

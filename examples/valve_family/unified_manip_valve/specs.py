@@ -55,13 +55,13 @@ def _layout() -> str:
 
 VALVE_TURN_DOC = f"""ValveTurn: a two-link finger turns a valve to a target angle.
 
-The finger (links of {LINKS[0]} and {LINKS[1]} m, hinges j0 and j1 about the vertical, base
-at the origin) and the valve (a wheel on a vertical hinge at {tuple(VALVE_AXIS)} m, with
-damping and friction) lie in the horizontal plane. The handle stands on the wheel's rim,
-{HANDLE_RADIUS} m from its axis; only the fingertip and the handle collide. At reset the
-valve's angle is uniform in [-pi, pi) and the target is {TURN_LOW}-{TURN_HIGH} rad away
-from it, either way. Success: the valve within {THRESHOLD} rad of the target. 100 steps of
-20 ms.
+The finger (links of {LINKS[0]} and {LINKS[1]} m, hinges j0 and j1 about the vertical,
+base at the origin) and the valve (a wheel on a vertical hinge at x = {VALVE_AXIS[0]} m,
+with damping and friction) lie in the horizontal plane. The handle stands on the wheel's
+rim, {HANDLE_RADIUS} m from its axis; only the fingertip and the handle collide. At reset
+the valve's angle is uniform in [-pi, pi) and the target is {TURN_LOW}-{TURN_HIGH} rad
+from it, either way. Success: the valve within {THRESHOLD} rad of the target. 100 steps
+of 20 ms.
 
 Observation ({sum(SIZES.values())},):
     index  group        units
