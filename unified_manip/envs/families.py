@@ -5,7 +5,7 @@ defines ``SPECS`` (a sequence of :class:`~unified_manip.envs.registry.TaskSpec`)
 ``pyproject.toml``::
 
     [project.entry-points."unified_manip.families"]
-    valve = "unified_manip_valve"
+    valve = "unified_manip_valve.specs"
 
 ``import unified_manip`` registers them after the built-in families, in the order of the
 installed distributions' names. As Gymnasium does with its own plugins, a family that

@@ -3,13 +3,16 @@
 These backends keep the upstream env (its model, reset, goal sampling, observation
 and ``native`` control code) and drive its methods directly, so the task is exactly
 upstream's. :class:`UpstreamBackend` holds what they share; a family adds how an action
-is applied (:meth:`UpstreamBackend.apply`) and what its reward terms read. Two things
+is applied (:meth:`UpstreamBackend.apply`) and what its reward terms read. Every private
+member of the upstream env they call is called through
+:mod:`unified_manip.envs.tasks.upstream_private`, which names each and why. Two things
 need care:
 
 * **Seeding.** ``UnifiedManipEnv.reset(seed=s)`` seeds its own ``np_random`` exactly
-  as ``gymnasium.Env.reset(seed=s)`` does; :func:`upstream_reset` hands that generator
-  to the upstream env before running upstream's ``_reset_sim``/``_sample_goal``, so a
-  seed gives the same episode as ``gym.make(<upstream id>).reset(seed=s)``.
+  as ``gymnasium.Env.reset(seed=s)`` does; :func:`upstream_private.reset
+  <unified_manip.envs.tasks.upstream_private.reset>` hands that generator to the upstream
+  env before running upstream's reset steps, so a seed gives the same episode as
+  ``gym.make(<upstream id>).reset(seed=s)``.
 * **Pickling.** Upstream envs are ``EzPickle``: unpickling rebuilds them from their
   constructor arguments and loses the simulator state. :func:`pickle_upstream` stores
   the object's ``__dict__`` instead (model and data pickle with their full state),
@@ -29,14 +32,7 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.lazy import resolve
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
-
-
-def upstream_reset(env: Any, np_random: np.random.Generator) -> None:
-    """Run the upstream env's reset (without its re-seeding) from ``np_random``."""
-    env._np_random = np_random
-    while not env._reset_sim():  # upstream retries failed resets the same way
-        pass
-    env.goal = env._sample_goal().copy()
+from unified_manip.envs.tasks import upstream_private as private
 
 
 def pickle_upstream(env: Any) -> tuple[type, dict[str, Any], dict[str, str]]:
@@ -101,20 +97,20 @@ class UpstreamBackend(Backend):
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:
-        upstream_reset(self._up, np_random)
+        private.reset(self._up, np_random)
         self.after_reset()
-        self._obs = self._up._get_obs()
+        self._obs = private.observation(self._up)
         self._unstable = False
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         before = bad_state_warnings(self._up.data)
         diagnostics = self.apply(action)
         self._unstable = bad_state_warnings(self._up.data) > before
-        self._obs = self._up._get_obs()
+        self._obs = private.observation(self._up)
         return diagnostics
 
     def physics_step(self) -> None:
-        self._up._mujoco_step(None)
+        private.mujoco_step(self._up, None)
 
     def unstable(self) -> bool:
         return self._unstable
@@ -132,7 +128,7 @@ class UpstreamBackend(Backend):
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:
         up = self._up
-        up._render_callback()  # upstream: show the goal
+        private.render_callback(up)  # upstream: show the goal
         return self._renderer.render(up.model, up.data)
 
     def close(self) -> None:

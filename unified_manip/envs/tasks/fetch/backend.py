@@ -9,13 +9,13 @@ from typing import Any, Mapping
 import mujoco
 import numpy as np
 from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
-from gymnasium_robotics.utils.mujoco_utils import MujocoModelNames
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.rig import MujocoRig
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
+from unified_manip.envs.tasks import upstream_private as private
 from unified_manip.envs.tasks.contacts import touches_both
 from unified_manip.envs.tasks.fetch import observations as obs_groups
 from unified_manip.envs.tasks.fetch.model import actuated_model
@@ -69,8 +69,7 @@ class FetchBackend(UpstreamBackend):
         self._joint_obs = controller.space == "joint"
         if not self._native:
             model = actuated_model(up.fullpath, up.initial_qpos, config.render_width, config.render_height)
-            up.model, up.data = model, mujoco.MjData(model)
-            up._model_names = MujocoModelNames(model)
+            private.replace_model(up, model, mujoco.MjData(model))
             mujoco.mj_resetData(up.model, up.data)
             up.data.qpos[:] = up.initial_qpos
             up.data.qvel[:] = up.initial_qvel
@@ -111,12 +110,12 @@ class FetchBackend(UpstreamBackend):
         if self._native:
             # Upstream clips in the action space's dtype (float32) and scales in it.
             a = action.astype(np.float32)
-            up._set_action(a)
-            up._mujoco_step(a)
-            up._step_callback()
+            private.set_action(up, a)
+            private.mujoco_step(up, a)
+            private.step_callback(up)
             return {}
         diagnostics = self.control(action)
-        up._mujoco_step(action)
+        private.mujoco_step(up, action)
         return diagnostics
 
     # -------------------------------------------------------------- observation

@@ -12,6 +12,7 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
+from unified_manip.envs.tasks import upstream_private as private
 from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 from unified_manip.envs.tasks.shadow_hand import observations as obs_groups
 from unified_manip.envs.tasks.shadow_hand.rig import HandRig
@@ -53,11 +54,11 @@ class HandBackend(UpstreamBackend):
         up = self._up
         a = action.astype(np.float32)  # upstream's action-space dtype
         if self._native:
-            up._set_action(a)
+            private.set_action(up, a)
         else:
             self.control(action)
-        up._mujoco_step(a)
-        up._step_callback()
+        private.mujoco_step(up, a)
+        private.step_callback(up)
         return {}
 
     def after_reset(self) -> None:
