@@ -17,7 +17,7 @@ from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
-from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.envs.tasks.robosuite_tasks.more_goals import TASKS
 from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
 from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
@@ -41,7 +41,7 @@ class RobosuiteBackend(Backend):
         self.controller = controller
         self.task_name = task
         self.options = validate_options(dict(config.options))
-        self.task = TASK_DEFS[task]
+        self.task = TASKS[task]
         self.mode = config.action_mode
         up = make_upstream(self.task.env_name, self.options["robot"], self.mode)
         self._up = up
