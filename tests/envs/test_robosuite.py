@@ -18,7 +18,19 @@ import robosuite
 import unified_manip
 from unified_manip.envs.tasks import robosuite_tasks as rt
 
-NAMES = ("Lift", "Stack", "PickPlaceCan", "NutAssemblyRound", "Door")
+NAMES = (
+    "Lift",
+    "Stack",
+    "PickPlaceCan",
+    "NutAssemblyRound",
+    "Door",
+    "NutAssemblySquare",
+    "PickPlaceMilk",
+    "PickPlaceBread",
+    "PickPlaceCereal",
+    "Wipe",
+    "ToolHang",
+)
 IDS = [f"UnifiedManip/{n}-v0" for n in NAMES]
 
 
@@ -44,7 +56,7 @@ def test_native_matches_robosuite_make(name):
     ref = up.reset()
     flat = lambda o: np.concatenate((o["robot0_proprio-state"], o["object-state"])).astype(np.float32)  # noqa: E731
     np.testing.assert_array_equal(obs["observation"], flat(ref))
-    actions = np.random.default_rng(0).uniform(-1, 1, (30, 7)).astype(np.float32)
+    actions = np.random.default_rng(0).uniform(-1, 1, (30, up.action_dim)).astype(np.float32)
     for a in actions:
         obs, _, _, _, info = env.step(a)
         ref, ref_reward, _, ref_info = up.step(a.astype(np.float64))

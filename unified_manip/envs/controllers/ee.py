@@ -1,7 +1,7 @@
 """The end-effector controllers: a grip-site position target, solved to joint targets
 by mink differential IK each step, with the rig's held gripper orientation.
 
-The action is ``(dx, dy, dz, gripper)``; ``info`` gains ``ik_residual`` (the solution's
+The action is ``(dx, dy, dz, gripper)``, or ``(dx, dy, dz)`` on a rig without a gripper; ``info`` gains ``ik_residual`` (the solution's
 remaining position error, m) and ``ik_limit_active`` (a joint range bound it).
 """
 
@@ -17,10 +17,9 @@ from unified_manip.envs.controllers.ik import MinkIK
 class EEDeltaController:
     """Target ``p + a[:3] * step`` from the measured grip site ``p``."""
 
-    action_dim = 4
-
     def __init__(self, config, rig) -> None:
         self.config, self.rig = config, rig
+        self.action_dim = 3 + int(rig.has_gripper)
         rig.actuate("position")
         self.ik = MinkIK(rig.model, rig, orientation_cost=config.orientation_cost, iterations=config.iterations)
         self.ik_yield = None
@@ -48,7 +47,7 @@ class EEDeltaController:
         if self.ik_yield is not None and residual > self.config.yield_residual:
             # Out of reach holding the orientation: let the gripper tilt.
             q_arm, residual, limit_active = self.ik_yield.solve(rig.data.qpos, target, rotation)
-        rig.command(q_arm, action[3])
+        rig.command(q_arm, action[3] if rig.has_gripper else None)
         return {"ik_residual": residual, "ik_limit_active": limit_active}
 
 

@@ -1,4 +1,5 @@
-"""The robosuite family: Lift, Stack, PickPlaceCan, NutAssemblyRound and Door (robosuite 1.5.2).
+"""The robosuite family (robosuite 1.5.2): Lift, Stack, PickPlaceCan/Milk/Bread/Cereal,
+NutAssemblyRound/Square, Door, Wipe and ToolHang.
 
 The backend owns one real robosuite env, built with ``robosuite.make`` exactly as a
 robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
@@ -27,8 +28,8 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
   own renderer does.
 
 Modules: :mod:`.options` (the ``robot`` option), :mod:`.cameras` (the image cameras), :mod:`.suite`
-(``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` (how each
-env becomes a goal task), :mod:`.backend`, :mod:`.policies`, :mod:`.docs`,
+(``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` and :mod:`.more_goals` (how each
+env becomes a goal task), :mod:`.backend`, :mod:`.policies` and :mod:`.more_policies`, :mod:`.docs`,
 :mod:`.specs`. Their names can also be imported from this package
 (``from unified_manip.envs.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
 the family was one module; they are imported on first access.
@@ -40,5 +41,18 @@ from unified_manip.envs.tasks.robosuite_tasks.specs import SPECS
 __all__ = ["SPECS"]
 
 __getattr__, __dir__ = reexport(
-    __name__, ("options", "controllers", "rig", "suite", "goals", "backend", "policies", "docs", "specs")
+    __name__,
+    (
+        "options",
+        "controllers",
+        "rig",
+        "suite",
+        "goals",
+        "more_goals",
+        "backend",
+        "policies",
+        "more_policies",
+        "docs",
+        "specs",
+    ),
 )

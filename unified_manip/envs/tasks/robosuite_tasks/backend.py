@@ -18,7 +18,7 @@ from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
 from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
-from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS
+from unified_manip.envs.tasks.robosuite_tasks.more_goals import TASKS
 from unified_manip.envs.tasks.robosuite_tasks.observations import suite_groups
 from unified_manip.envs.tasks.robosuite_tasks.options import validate_options
 from unified_manip.envs.tasks.robosuite_tasks.rig import SuiteRig
@@ -42,7 +42,7 @@ class RobosuiteBackend(Backend):
         self.controller = controller
         self.task_name = task
         self.options = validate_options(dict(config.options))
-        self.task = TASK_DEFS[task]
+        self.task = TASKS[task]
         self.mode = config.action_mode
         up = make_upstream(self.task.env_name, self.options["robot"], self.mode)
         self._up = up
@@ -67,6 +67,7 @@ class RobosuiteBackend(Backend):
             self.action_dim = self.control.action_dim
         self._groups, self._default = suite_groups(up)
         self._goal = np.zeros(0)
+        self._achieved: np.ndarray | None = None  # the achieved goal of the current state, once read
         self._obs: dict[str, np.ndarray] = {}
         self._reward = 0.0
         self._unstable = False
@@ -87,6 +88,7 @@ class RobosuiteBackend(Backend):
         # In place: robosuite's placement samplers and robots hold this very generator.
         up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
         self._obs = up.reset()
+        self._achieved = None
         self._reward = 0.0
         self._unstable = False
         if not self._native:
@@ -104,12 +106,14 @@ class RobosuiteBackend(Backend):
             command = self.rig.pending
         before = bad_state_warnings(self.data)
         self._obs, self._reward, _, _ = self._up.step(command)
+        self._achieved = None
         self._unstable = bad_state_warnings(self.data) > before
         return diagnostics
 
     def physics_step(self) -> None:
         self._log.append(None)
         mujoco.mj_step(self.model, self.data, self._substeps)
+        self._achieved = None
 
     def unstable(self) -> bool:
         return self._unstable
@@ -125,7 +129,8 @@ class RobosuiteBackend(Backend):
         return self._default
 
     def achieved_goal(self) -> np.ndarray:
-        return self.task.achieved(self._up).copy()
+        self._achieved = self.task.achieved(self._up).copy()
+        return self._achieved
 
     def desired_goal(self) -> np.ndarray:
         return self._goal
@@ -144,7 +149,12 @@ class RobosuiteBackend(Backend):
         return {GRIP_TO_OBJECT: dist, GRASPED: held}
 
     def extra_info(self) -> dict[str, Any]:
-        return {"native_success": float(self._up._check_success()), "native_reward": float(self._reward)}
+        if self.task.goal_is_success:  # the env has read the achieved goal of this state
+            achieved = self.achieved_goal() if self._achieved is None else self._achieved
+            success = float(np.array_equal(achieved, self._goal))
+        else:
+            success = float(self._up._check_success())
+        return {"native_success": success, "native_reward": float(self._reward)}
 
     # -------------------------------------------------------------- rendering
     def render(self) -> np.ndarray | None:

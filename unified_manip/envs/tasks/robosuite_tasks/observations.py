@@ -24,6 +24,7 @@ PROPRIO: dict[str, tuple[str, str, str]] = {
     "eef_quat_site": ("ee_quat_site", "quaternion (x, y, z, w) of the grip site", "state"),
     "gripper_qpos": ("gripper", "m (finger joint positions)", "state"),
     "gripper_qvel": ("gripper_vel", "m/s (finger joint velocities)", "velocity"),
+    "contact": ("contact", "1 while the wiping tool pushes with more than 1 N (Wipe)", "state"),
 }
 PREFIX = "robot0_"
 MODALITIES = ("robot0_proprio", "object")

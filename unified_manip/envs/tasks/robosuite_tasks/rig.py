@@ -13,7 +13,8 @@ class SuiteRig:
 
     A command becomes the action vector of robosuite's ``step`` (:attr:`pending`): the
     arm entries (absolute joint targets for JOINT_POSITION, torques for JOINT_TORQUE),
-    then the gripper with robosuite's sign (+1 closed).
+    then the gripper with robosuite's sign (+1 closed). A robot without a gripper that
+    moves (Wipe's wiping tool) has no gripper entry: ``has_gripper`` is False.
 
     Args:
         up: The robosuite env.
@@ -22,11 +23,10 @@ class SuiteRig:
             modes hold (the task's choice).
     """
 
-    has_gripper = True
-
     def __init__(self, up, joints: IKJoints, held_rotation) -> None:
         self._up = up
         self._robot = up.robots[0]
+        self.has_gripper = self._robot.gripper["right"].dof > 0
         self.model, self.data = up.sim.model._model, up.sim.data._data
         self.joints = joints
         self.n = joints.n
@@ -71,8 +71,11 @@ class SuiteRig:
             c.action_scale = None
         self.rotation = self._held_rotation(self.data.site_xmat[self.site_id].reshape(3, 3))
 
-    def command(self, arm: np.ndarray, gripper: float) -> None:
+    def command(self, arm: np.ndarray, gripper: float | None) -> None:
         command = np.zeros(self._up.action_dim)
-        command[-1] = -gripper  # robosuite's GRIP: -1 open, +1 closed
-        command[:-1] = arm
+        if self.has_gripper:
+            command[-1] = -gripper  # robosuite's GRIP: -1 open, +1 closed
+            command[:-1] = arm
+        else:
+            command[:] = arm
         self.pending = command

@@ -7,7 +7,20 @@ from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
-from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from unified_manip.envs.tasks.robosuite_tasks.docs import (
+    BREAD_DOC,
+    CAN_DOC,
+    CEREAL_DOC,
+    DOOR_DOC,
+    LIFT_DOC,
+    MILK_DOC,
+    NUT_DOC,
+    SQUARE_NUT_DOC,
+    STACK_DOC,
+    TOOL_HANG_DOC,
+    WIPE_DOC,
+)
+from unified_manip.envs.tasks.robosuite_tasks.more_policies import bread_policy, cereal_policy, milk_policy, nut_policy
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
@@ -46,5 +59,13 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
         ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
         ("Door", "push", 1, 150, 0.05, DOOR_DOC, door_policy, 0.8),
+        ("NutAssemblySquare", "grasp", 3, 200, 0.02, SQUARE_NUT_DOC, nut_policy, None),
+        ("PickPlaceMilk", "grasp", 3, 200, 0.05, MILK_DOC, milk_policy, None),
+        ("PickPlaceBread", "grasp", 3, 200, 0.05, BREAD_DOC, bread_policy, None),
+        ("PickPlaceCereal", "grasp", 3, 200, 0.05, CEREAL_DOC, cereal_policy, None),
+        # Wipe: success is every one of robosuite's 100 markers wiped: a fraction within
+        # half a marker of 1. ToolHang: both stage flags set.
+        ("Wipe", "push", 1, 500, 0.005, WIPE_DOC, None, None),
+        ("ToolHang", "push", 2, 700, 0.5, TOOL_HANG_DOC, None, None),
     )
 )
