@@ -235,18 +235,21 @@ def pytest_runtest_logfinish(nodeid, location):
 FAST_FAMILY = "arm4"
 
 
-def _slow_family(value) -> bool:
-    """Whether a parametrised value names (or starts with) an ID of another family."""
+def _spec(value) -> unified_manip.TaskSpec | None:
+    """The task a parametrised value names (or starts with), if any."""
     if isinstance(value, (tuple, list)) and value:
         value = value[0]
-    spec = unified_manip.TASKS.get(value) if isinstance(value, str) else None
-    return spec is not None and spec.family != FAST_FAMILY
+    return unified_manip.TASKS.get(value) if isinstance(value, str) else None
 
 
 def pytest_collection_modifyitems(items):
     """The fast subset runs every parametrised contract on the arm family (MuJoCo only,
     milliseconds a step); the same cases on Fetch, the Shadow Hand and robosuite carry
     ``slow``. CI runs them all.
+
+    A case of a task whose family needs an extra (``TaskSpec.extra``: robosuite's) carries
+    that extra's marker (``robosuite``), as do the tests marked so in their code, so that
+    an install without it deselects them by name: ``-m "not robosuite"``.
 
     The tests marked ``slow`` in their code (whole training runs, benches, subprocesses:
     tens of seconds each) then move ahead of the others, in their own order. pytest-xdist's
@@ -255,8 +258,11 @@ def pytest_collection_modifyitems(items):
     explicit = {id(item) for item in items if item.get_closest_marker("slow") is not None}
     for item in items:
         callspec = getattr(item, "callspec", None)
-        if callspec is not None and any(_slow_family(v) for v in callspec.params.values()):
+        specs = [s for s in map(_spec, callspec.params.values()) if s is not None] if callspec is not None else []
+        if any(s.family != FAST_FAMILY for s in specs):
             item.add_marker(pytest.mark.slow)
+        for extra in sorted({s.extra for s in specs if s.extra is not None}):
+            item.add_marker(getattr(pytest.mark, extra))
     items.sort(key=lambda item: id(item) not in explicit)
 
 

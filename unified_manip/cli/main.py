@@ -213,5 +213,6 @@ def main(argv: list[str] | None = None) -> int:
         YamlFileError,
         DirectoryInUse,
         FileNotFoundError,
+        MissingExtra,
     ) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
