@@ -44,7 +44,7 @@ def run(
     default = [tid for tid, spec in TASKS.items() if spec.installed]
     ids = [tid for tid in (task_ids or default) if TASKS[tid].scripted_policy is not None]
     for tid in ids:
-        TASKS[tid].require_extra()  # before the first rollout
+        TASKS[tid].require_installed()  # before the first rollout
     rows, successes = [], {}
     for tid in tqdm(ids, desc="demo", disable=not progress, unit="task"):
         shots, ok = rollout_frames(tid, seed, frames, size)

@@ -194,6 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     except MissingExtra as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
+    from unified_manip.envs.mujoco_version import UnsupportedMuJoCo
     from unified_manip.experiments.grid import GridError
     from unified_manip.experiments.results import ResultsError
     from unified_manip.experiments.robustness import RobustnessError
@@ -214,5 +215,6 @@ def main(argv: list[str] | None = None) -> int:
         DirectoryInUse,
         FileNotFoundError,
         MissingExtra,
+        UnsupportedMuJoCo,
     ) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")

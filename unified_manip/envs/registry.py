@@ -17,6 +17,7 @@ import numpy as np
 from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.mujoco_version import check_mujoco
 from unified_manip.envs.rewards import SHAPINGS
 from unified_manip.extras import EXTRAS, missing_modules, require
 
@@ -100,15 +101,18 @@ class TaskSpec:
         """Whether the family's simulator is installed (its extra, if it has one)."""
         return self.extra is None or not missing_modules(self.extra)
 
-    def require_extra(self) -> None:
+    def require_installed(self) -> None:
         """Raise :class:`unified_manip.extras.MissingExtra` (one line naming the extra and
-        its install command) if the family's simulator is not installed."""
+        its install command) if the family's simulator is not installed, or
+        :class:`~unified_manip.envs.mujoco_version.UnsupportedMuJoCo` (one line naming the
+        supported range) if the installed MuJoCo is outside it."""
         if self.extra is not None:
             require(self.extra, what=self.id)
+        check_mujoco()
 
     def build_upstream(self):
         """The wrapped upstream env, for side-by-side benchmarks."""
-        self.require_extra()
+        self.require_installed()
         if self.make_upstream is not None:
             return self.make_upstream()
         if self.upstream_id is None:

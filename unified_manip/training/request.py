@@ -72,7 +72,7 @@ class TrainRequest:
             task.check_choices(self.action_mode, self.reward_type)
         except ValueError as err:
             raise TrainError(str(err)) from None
-        task.require_extra()  # before the run directory is made
+        task.require_installed()  # before the run directory is made
         if self.algo not in ALGOS:
             raise TrainError(f"unknown algorithm {self.algo!r}; expected one of {', '.join(ALGOS)}")
         if self.device is not None and self.device not in DEVICES:
