@@ -89,6 +89,29 @@ def local_ray(test):
     return test
 
 
+def overlay_venv(venv: Path, *requirements: str) -> str:
+    """A fresh venv at ``venv`` that sees this venv's packages (through a .pth line) under
+    its own ``requirements`` (installed there without their dependencies, e.g.
+    ``"minari==0.5.4"``), so a test can run one package's other version beside everything
+    else as here; its Python. Its processes import the checkout with ``PYTHONPATH=ROOT``."""
+    import sys
+
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
+    python = str(venv / "bin" / "python")
+    site = subprocess.run(
+        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.strip()
+    Path(site, "_parent_deps.pth").write_text("\n".join(p for p in sys.path if p.endswith("site-packages")) + "\n")
+    if requirements:
+        pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "--python", python]
+        subprocess.run([*pip, "install", "--no-deps", "--no-compile", *requirements], check=True, timeout=600)
+    return python
+
+
 def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
     path = tmp_path / name
     path.write_text(yaml.safe_dump(doc, sort_keys=False))

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
 import tomllib
 from importlib.metadata import version
 from pathlib import Path
 
 import pytest
+from conftest import overlay_venv
 
 from unified_manip.envs.mujoco_version import SUPPORTED, UnsupportedMuJoCo, check_mujoco, supported
 
@@ -64,18 +64,7 @@ def test_an_installed_mujoco_3_10_is_refused_in_one_line(tmp_path):
     """A venv whose own mujoco is 3.10.0 (installed over this venv's packages, seen through
     a .pth line): gym.make and the CLI say which range is supported, before any backend
     is built."""
-    venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
-    python = str(venv / "bin" / "python")
-    site = subprocess.run(
-        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout.strip()
-    Path(site, "_parent_deps.pth").write_text("\n".join(p for p in sys.path if p.endswith("site-packages")) + "\n")
-    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "--python", python]
-    subprocess.run([*pip, "install", "--no-deps", "--no-compile", "mujoco==3.10.0"], check=True, timeout=600)
+    python = overlay_venv(tmp_path / "venv", "mujoco==3.10.0")
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     code = (
         "import gymnasium as gym, unified_manip\n"
