@@ -89,6 +89,29 @@ def local_ray(test):
     return test
 
 
+def overlay_venv(venv: Path, *requirements: str) -> str:
+    """A fresh venv at ``venv`` that sees this venv's packages (through a .pth line) under
+    its own ``requirements`` (installed there without their dependencies, e.g.
+    ``"minari==0.5.4"``), so a test can run one package's other version beside everything
+    else as here; its Python. Its processes import the checkout with ``PYTHONPATH=ROOT``."""
+    import sys
+
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
+    python = str(venv / "bin" / "python")
+    site = subprocess.run(
+        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.strip()
+    Path(site, "_parent_deps.pth").write_text("\n".join(p for p in sys.path if p.endswith("site-packages")) + "\n")
+    if requirements:
+        pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "--python", python]
+        subprocess.run([*pip, "install", "--no-deps", "--no-compile", *requirements], check=True, timeout=600)
+    return python
+
+
 def write_grid(tmp_path: Path, doc: dict, name: str = "grid.yaml") -> Path:
     path = tmp_path / name
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
@@ -235,18 +258,21 @@ def pytest_runtest_logfinish(nodeid, location):
 FAST_FAMILY = "arm4"
 
 
-def _slow_family(value) -> bool:
-    """Whether a parametrised value names (or starts with) an ID of another family."""
+def _spec(value) -> unified_manip.TaskSpec | None:
+    """The task a parametrised value names (or starts with), if any."""
     if isinstance(value, (tuple, list)) and value:
         value = value[0]
-    spec = unified_manip.TASKS.get(value) if isinstance(value, str) else None
-    return spec is not None and spec.family != FAST_FAMILY
+    return unified_manip.TASKS.get(value) if isinstance(value, str) else None
 
 
 def pytest_collection_modifyitems(items):
     """The fast subset runs every parametrised contract on the arm family (MuJoCo only,
     milliseconds a step); the same cases on Fetch, the Shadow Hand and robosuite carry
     ``slow``. CI runs them all.
+
+    A case of a task whose family needs an extra (``TaskSpec.extra``: robosuite's) carries
+    that extra's marker (``robosuite``), as do the tests marked so in their code, so that
+    an install without it deselects them by name: ``-m "not robosuite"``.
 
     The tests marked ``slow`` in their code (whole training runs, benches, subprocesses:
     tens of seconds each) then move ahead of the others, in their own order. pytest-xdist's
@@ -255,8 +281,11 @@ def pytest_collection_modifyitems(items):
     explicit = {id(item) for item in items if item.get_closest_marker("slow") is not None}
     for item in items:
         callspec = getattr(item, "callspec", None)
-        if callspec is not None and any(_slow_family(v) for v in callspec.params.values()):
+        specs = [s for s in map(_spec, callspec.params.values()) if s is not None] if callspec is not None else []
+        if any(s.family != FAST_FAMILY for s in specs):
             item.add_marker(pytest.mark.slow)
+        for extra in sorted({s.extra for s in specs if s.extra is not None}):
+            item.add_marker(getattr(pytest.mark, extra))
     items.sort(key=lambda item: id(item) not in explicit)
 
 

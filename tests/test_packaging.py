@@ -14,7 +14,6 @@ from pathlib import Path
 import pytest
 
 import unified_manip
-from unified_manip.envs.tasks import PLUGIN_IDS
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Third-party packages that ``import unified_manip`` must not import.
@@ -46,6 +45,7 @@ def test_import_registers_every_id_without_loading_a_simulator():
     assert out.split(maxsplit=1) == [str(len(unified_manip.TASKS)), "[]\n"]
 
 
+@pytest.mark.robosuite
 def test_make_loads_only_its_family_simulator():
     code = (
         "import sys, gymnasium as gym, unified_manip\n"
@@ -148,8 +148,9 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel,
 @pytest.mark.slow
 @pytest.mark.xdist_group("wheel")
 def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
-    """``pip install unified_manip`` with no extras: every ID steps, torch, SB3 and Ray are
-    absent, and a command that needs an extra says which in one line."""
+    """``pip install unified_manip`` with no extras: numpy 2, every ID but robosuite's steps,
+    robosuite, torch, SB3 and Ray are absent, and a command or ID that needs an extra says
+    which in one line."""
     venv, work = tmp_path / "venv", tmp_path / "work"
     work.mkdir()
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=120)
@@ -162,19 +163,19 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     code = (
-        "import importlib.util, gymnasium as gym, unified_manip\n"
-        "print([m for m in ('torch', 'stable_baselines3', 'ray', 'rliable', 'pandas', 'rl_zoo3')"
+        "import importlib.util, gymnasium as gym, numpy, unified_manip\n"
+        "print(numpy.__version__.split('.')[0])\n"
+        "print([m for m in ('robosuite', 'torch', 'stable_baselines3', 'ray', 'rliable', 'pandas', 'rl_zoo3')"
         " if importlib.util.find_spec(m)])\n"
-        "for tid in unified_manip.TASKS:\n"
-        "    env = gym.make(tid)\n"
-        "    env.reset(seed=0)\n"
-        "    env.step(env.action_space.sample())\n"
-        "    env.close()\n"
-        "print(len(unified_manip.TASKS))"
+        "for tid, spec in unified_manip.TASKS.items():\n"
+        "    if spec.extra is None:\n"
+        "        env = gym.make(tid)\n"
+        "        env.reset(seed=0)\n"
+        "        env.step(env.action_space.sample())\n"
+        "        env.close()\n"
+        "print(sorted({spec.family for spec in unified_manip.TASKS.values() if spec.installed}))"
     )
-    # The fresh venv has the built-in families alone, not the example family the tests install.
-    builtin = len(unified_manip.TASKS) - len(PLUGIN_IDS)
-    assert _python(code, cwd=work, python=python).splitlines() == ["[]", str(builtin)]
+    assert _python(code, cwd=work, python=python).splitlines() == ["2", "[]", "['arm4', 'fetch', 'shadow_hand']"]
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     train = subprocess.run(
         [
@@ -197,6 +198,19 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     assert train.stderr == (
         "unified-manip train: error: unified-manip train needs the train extra: "
         'pip install "unified_manip[train]" (missing: torch, stable_baselines3, sb3_contrib, tensorboard)\n'
+    )
+    demo = subprocess.run(
+        [str(venv / "bin" / "unified-manip"), "demo", "--env", "UnifiedManip/Lift-v0", "--no-progress"],
+        capture_output=True,
+        text=True,
+        cwd=work,
+        env=env,
+        timeout=300,
+    )
+    assert (demo.returncode, demo.stderr) == (
+        2,
+        "unified-manip demo: error: UnifiedManip/Lift-v0 needs the robosuite extra: "
+        'pip install "unified_manip[robosuite]" (missing: robosuite)\n',
     )
     listed = subprocess.run(
         [str(venv / "bin" / "unified-manip"), "list"], capture_output=True, text=True, cwd=work, env=env, timeout=300

@@ -1,8 +1,11 @@
 """The optional dependency groups ("extras") and the one-line error for a missing one.
 
 ``pip install unified_manip`` is the env library alone (MuJoCo, Gymnasium,
-gymnasium-robotics, robosuite, mink). Training, reports, Ray, the zoo and datasets each
-come with an extra, e.g. ``pip install "unified_manip[train]"``; ``[all]`` has them all.
+gymnasium-robotics, mink): every family but robosuite's. robosuite, training, reports,
+Ray, the zoo and datasets each come with an extra, e.g. ``pip install "unified_manip[train]"``;
+``[all]`` has them all. A task whose family needs an extra names it in
+:attr:`~unified_manip.envs.registry.TaskSpec.extra`, and ``gym.make`` of it without the
+extra raises :class:`MissingExtra`.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ EXTRAS: dict[str, tuple[str, ...]] = {
     "ray": ("ray",),
     "zoo": ("rl_zoo3",),
     "datasets": ("minari", "h5py"),
+    "robosuite": ("robosuite", "h5py"),
 }
 
 

@@ -7,6 +7,8 @@ directory and an unloadable checkpoint (test_faults.py), --device (test_recipes.
 
 from __future__ import annotations
 
+import sys
+
 import pytest
 import yaml
 
@@ -274,3 +276,21 @@ def test_bench_on_a_directory_another_bench_owns(tmp_path, capsys):
     with DirectoryLock(tmp_path / "out", "bench directory"):
         line = one_line_exit_2(["bench", grid(tmp_path), "--out", str(tmp_path / "out")], capsys)
     assert line.startswith(f"unified-manip bench: error: bench directory {tmp_path / 'out'} is in use by pid ")
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["demo", "--env", "UnifiedManip/Lift-v0", "--out", "never.png", "--no-progress"],
+        ["train", "--env", "UnifiedManip/Lift-v0", "--algo", "sac", "--steps", "10", "--no-progress"],
+    ],
+    ids=["demo", "train"],
+)
+def test_a_robosuite_id_without_the_extra_names_it(argv, capsys, monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "robosuite", None)  # an install without [robosuite]
+    monkeypatch.chdir(tmp_path)
+    assert one_line_exit_2(argv, capsys) == (
+        f"unified-manip {argv[0]}: error: UnifiedManip/Lift-v0 needs the robosuite extra: "
+        'pip install "unified_manip[robosuite]" (missing: robosuite)'
+    )
+    assert list(tmp_path.iterdir()) == []

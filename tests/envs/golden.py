@@ -14,11 +14,18 @@ and hashed as its exact bytes with its shape (so float32 and float64 of one valu
 agree, and 1.0 and 1 agree), bools and strings tagged apart from numbers. A change in
 the last bit of any value changes the hash.
 
+The hashes are kept per MuJoCo version (``golden_hashes.json``'s ``"mujoco"``, one set per
+release of the supported range that has been recorded): the test compares the set of the
+MuJoCo installed, and fails when there is none. numpy and mink do not enter the key: on
+MuJoCo 3.9.0, numpy 2.4.6 with mink 1.2.0 gave the hashes numpy 1.26.4 with mink 0.0.5
+gave, on every case of the arm, Fetch and the Shadow Hand.
+
 Commands (run from the repository root, the virtual environment active)::
 
     python tests/envs/golden.py                    # compare every case, print those that differ
     python tests/envs/golden.py --only Lift        # only cases whose key contains "Lift"
-    python tests/envs/golden.py --write            # add cases not stored yet (a new ID or mode);
+    python tests/envs/golden.py --write            # add cases not stored yet (a new ID or mode,
+                                              # or every case of a new MuJoCo version);
                                               # a stored case that differs is reported, kept
     python tests/envs/golden.py --update --only X  # overwrite differing stored cases too
 
@@ -33,9 +40,8 @@ robosuite's controllers), numpy's SIMD loops, glibc's libm variants (MuJoCo's
 changing only the OpenBLAS kernel changed 342 of the 354 cases, only the libm variant 195.
 So the rollouts always run in a child process with every one of those pinned to its
 generic x86-64 code (``tests/portable.py``'s ``PORTABLE_ENV``); the CLI re-executes itself that way and the
-test starts such a child. The hashes are then the same on any x86-64 CPU with the pinned
-MuJoCo 3.9.0, numpy 1.26 and the same glibc; another architecture or library version may
-legitimately differ.
+test starts such a child. The hashes are then the same on any x86-64 CPU with the same
+MuJoCo and glibc; another architecture may legitimately differ.
 """
 
 from __future__ import annotations
@@ -149,8 +155,16 @@ def hashes(task_id: str, mode: str, reward: str) -> dict[str, str]:
     return {f: h[f].hexdigest() for f in FIELDS}
 
 
-def load() -> dict[str, dict[str, str]]:
-    return json.loads(PATH.read_text())["cases"]
+def mujoco_version() -> str:
+    """The installed MuJoCo's version: the key of its golden set."""
+    from importlib.metadata import version
+
+    return version("mujoco")
+
+
+def load_sets() -> dict[str, dict[str, dict[str, str]]]:
+    """Every stored set: ``{mujoco version: {case key: hashes}}``."""
+    return json.loads(PATH.read_text())["mujoco"] if PATH.exists() else {}
 
 
 def main(argv: list[str]) -> int:
@@ -166,7 +180,9 @@ def main(argv: list[str]) -> int:
         return 0
     write, update = "--write" in argv, "--update" in argv
     only = argv[argv.index("--only") + 1] if "--only" in argv else ""
-    stored = load() if PATH.exists() else {}
+    sets = load_sets()
+    mujoco = mujoco_version()
+    stored = sets.get(mujoco, {})
     todo = [c for c in cases() if only in key(*c)]
     added, differ = [], []
     for case in todo:
@@ -184,15 +200,20 @@ def main(argv: list[str]) -> int:
     if write or update:
         current = {key(*c) for c in cases()}
         dropped = sorted(set(stored) - current)
+        sets[mujoco] = {k: v for k, v in stored.items() if k in current}
         doc = {
-            "about": "Golden-trajectory hashes: see tests/envs/golden.py for what they cover and how to regenerate them.",
+            "about": "Golden-trajectory hashes per MuJoCo version: see tests/envs/golden.py for what they cover "
+            "and how to regenerate them.",
             "steps": STEPS,
-            "cases": {k: v for k, v in stored.items() if k in current},
+            "mujoco": sets,
         }
         PATH.write_text(json.dumps(doc, indent=1, sort_keys=True) + "\n")
-        print(f"wrote {PATH}: {len(added)} added, {len(differ) if update else 0} updated, {len(dropped)} dropped")
+        print(
+            f"wrote {PATH} (mujoco {mujoco}): {len(added)} added, {len(differ) if update else 0} updated, "
+            f"{len(dropped)} dropped"
+        )
         return 1 if differ and not update else 0
-    print(f"{len(todo) - len(differ) - len(added)}/{len(todo)} cases match, {len(added)} not stored")
+    print(f"mujoco {mujoco}: {len(todo) - len(differ) - len(added)}/{len(todo)} cases match, {len(added)} not stored")
     return 1 if differ or added else 0
 
 

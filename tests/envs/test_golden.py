@@ -1,6 +1,7 @@
 """Behaviour does not change: every ID x action mode x reward type replays its golden
 50-step rollout bit for bit (see ``tests/envs/golden.py``; regenerate with
-``python tests/envs/golden.py --write``).
+``python tests/envs/golden.py --write``). The hashes compared are the set of the MuJoCo
+installed; every test fails if it has none.
 
 The rollouts are played once, in child processes with generic floating point
 (``golden.PORTABLE_ENV``), so the hashes do not depend on the CPU. The cases are dealt
@@ -15,9 +16,14 @@ import hashlib
 import numpy as np
 import pytest
 from conftest import ID_MODE_REWARDS
-from golden import check_portable, feed, hashes_in_child, key, load
+from golden import check_portable, feed, hashes_in_child, key, load_sets, mujoco_version
 
-STORED = load()
+import unified_manip
+
+SETS = load_sets()
+#: The installed MuJoCo's set, or None (then every test here fails, naming the version).
+STORED = SETS.get(mujoco_version())
+NO_SET = f"no golden set for mujoco {mujoco_version()}: run python tests/envs/golden.py --write"
 pytestmark = pytest.mark.slow  # the rollouts take minutes
 
 #: Children that play the rollouts; case i goes to part i % PARTS (every part gets every family).
@@ -28,16 +34,23 @@ PARTS = 2
 def played(part: int) -> dict[str, dict[str, str]] | RuntimeError:
     """The hashes of part ``part``'s cases, or the child's error (kept, so that its cases
     fail at once instead of each starting another child)."""
-    try:
-        return hashes_in_child([key(*c) for c in ID_MODE_REWARDS[part::PARTS]])
+    try:  # the cases of families installed here (an install without an extra deselects the others)
+        cases = [c for c in ID_MODE_REWARDS[part::PARTS] if unified_manip.TASKS[c[0]].installed]
+        return hashes_in_child([key(*c) for c in cases])
     except RuntimeError as err:
         return err
 
 
+def test_the_installed_mujoco_has_a_golden_set():
+    assert STORED is not None, NO_SET
+    assert "3.9.0" in SETS and "3.3.0" in SETS  # both ends of the tested range
+
+
 def test_every_registered_case_has_stored_hashes():
     current = {key(*c) for c in ID_MODE_REWARDS}
-    assert sorted(current - set(STORED)) == [], "run: python tests/envs/golden.py --write"
-    assert sorted(set(STORED) - current) == [], "IDs or modes were removed: bump versions instead"
+    for mujoco, stored in SETS.items():
+        assert sorted(current - set(stored)) == [], f"mujoco {mujoco}: run python tests/envs/golden.py --write"
+        assert sorted(set(stored) - current) == [], f"mujoco {mujoco}: IDs or modes were removed: bump versions instead"
 
 
 @pytest.mark.parametrize(
@@ -53,6 +66,7 @@ def test_every_registered_case_has_stored_hashes():
     ],
 )
 def test_golden_rollout(part, case):
+    assert STORED is not None, NO_SET
     hashes = played(part)
     if isinstance(hashes, RuntimeError):
         raise hashes

@@ -35,11 +35,16 @@ def rollout_frames(task_id: str, seed: int, frames: int, size: int, action_mode:
 def run(
     out: Path, seed: int = 0, frames: int = 6, size: int = 200, task_ids=None, progress: bool = True
 ) -> dict[str, bool]:
-    """Write the strip to ``out`` (PNG) and return each task's success."""
+    """Write the strip to ``out`` (PNG) and return each task's success. By default every
+    task with a scripted policy whose family is installed (the robosuite tasks need the
+    robosuite extra); a named task of a missing extra raises ``MissingExtra``."""
     import imageio.v3 as iio
     from tqdm import tqdm
 
-    ids = [tid for tid in (task_ids or TASKS) if TASKS[tid].scripted_policy is not None]
+    default = [tid for tid, spec in TASKS.items() if spec.installed]
+    ids = [tid for tid in (task_ids or default) if TASKS[tid].scripted_policy is not None]
+    for tid in ids:
+        TASKS[tid].require_installed()  # before the first rollout
     rows, successes = [], {}
     for tid in tqdm(ids, desc="demo", disable=not progress, unit="task"):
         shots, ok = rollout_frames(tid, seed, frames, size)

@@ -206,6 +206,7 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     except MissingExtra as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")
 
+    from unified_manip.envs.mujoco_version import UnsupportedMuJoCo
     from unified_manip.experiments.grid import GridError
     from unified_manip.experiments.results import ResultsError
     from unified_manip.experiments.robustness import RobustnessError
@@ -225,5 +226,7 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         YamlFileError,
         DirectoryInUse,
         FileNotFoundError,
+        MissingExtra,
+        UnsupportedMuJoCo,
     ) as err:
         parser.exit(2, f"unified-manip {args.command}: error: {err}\n")

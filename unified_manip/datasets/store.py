@@ -10,6 +10,7 @@ a dataset. What this project adds sits in the metadata under :data:`KEY`.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import re
 import shutil
@@ -24,6 +25,14 @@ KEY = "unified_manip"
 
 #: What ``infos/state`` holds (the backends' ``get_state``).
 STATE = "mj_getState(model, data, state, mjSTATE_FULLPHYSICS)"
+
+#: The ``minari_version`` every dataset declares: the oldest supported Minari release.
+#: Minari writes its own release there and refuses a dataset of a release it does not
+#: know (0.5.3 refuses 0.5.4's), but 0.5.4 writes 0.5.3's HDF5 layout: it only adds a
+#: ``jpeg_encoding`` switch, on by default, as 0.5.3 always encodes images. Declaring
+#: 0.5.3 lets every supported release (``minari>=0.5.3,<0.6``) read every dataset; the
+#: release that wrote it stays in this project's metadata (``versions``).
+MINARI_FORMAT = "0.5.3"
 
 _NAME = re.compile(r"^[A-Za-z0-9_.]+(-[A-Za-z0-9_.]+)*-v\d+$")
 
@@ -82,12 +91,21 @@ def publish(out: Path, episodes: list, env: Any, metadata: dict[str, Any], descr
                 requirements=versions.requirements(metadata["versions"]),
             )
             dataset.storage.update_metadata({KEY: metadata})
+            _declare_format(tmp_root / out.name / "data" / "metadata.json")
         if out.exists():
             os.replace(out, trash)
         os.replace(tmp_root / out.name, out)
     finally:
         shutil.rmtree(tmp_root, ignore_errors=True)
         shutil.rmtree(trash, ignore_errors=True)
+
+
+def _declare_format(path: Path) -> None:
+    """Set the ``minari_version`` of the metadata file at ``path`` to :data:`MINARI_FORMAT`
+    (Minari's ``update_metadata`` refuses to change it)."""
+    meta = json.loads(path.read_text())
+    meta["minari_version"] = MINARI_FORMAT
+    path.write_text(json.dumps(meta))
 
 
 def open_dataset(path: Path):

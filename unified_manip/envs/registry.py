@@ -17,7 +17,9 @@ import numpy as np
 from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.mujoco_version import check_mujoco
 from unified_manip.envs.termsets import TermSet
+from unified_manip.extras import EXTRAS, missing_modules, require
 
 if TYPE_CHECKING:
     from unified_manip.envs.backend import Backend
@@ -68,6 +70,9 @@ class TaskSpec:
             and ``step(action)``); ``None`` means ``gym.make(upstream_id)``.
         cameras: The cameras of image observations (``camera=``), by name, the default
             first (:mod:`unified_manip.envs.cameras`); the family declares them once.
+        extra: The extra that installs the family's simulator (``"robosuite"``), or
+            ``None`` when the base install has it. Without it, building the env raises
+            :class:`unified_manip.extras.MissingExtra` naming the extra.
     """
 
     name: str
@@ -89,9 +94,25 @@ class TaskSpec:
     upstream_id: str | None = None
     make_upstream: Callable[[], object] | None = None
     cameras: Mapping[str, CameraConfig] = field(default_factory=dict)
+    extra: str | None = None
+
+    @property
+    def installed(self) -> bool:
+        """Whether the family's simulator is installed (its extra, if it has one)."""
+        return self.extra is None or not missing_modules(self.extra)
+
+    def require_installed(self) -> None:
+        """Raise :class:`unified_manip.extras.MissingExtra` (one line naming the extra and
+        its install command) if the family's simulator is not installed, or
+        :class:`~unified_manip.envs.mujoco_version.UnsupportedMuJoCo` (one line naming the
+        supported range) if the installed MuJoCo is outside it."""
+        if self.extra is not None:
+            require(self.extra, what=self.id)
+        check_mujoco()
 
     def build_upstream(self):
         """The wrapped upstream env, for side-by-side benchmarks."""
+        self.require_installed()
         if self.make_upstream is not None:
             return self.make_upstream()
         if self.upstream_id is None:
@@ -110,6 +131,8 @@ class TaskSpec:
         bad = [name for name, c in self.cameras.items() if not isinstance(c, CameraConfig)]
         if bad:
             raise TypeError(f"{self.name}: the cameras {bad} are not CameraConfig instances")
+        if self.extra is not None and self.extra not in EXTRAS:
+            raise ValueError(f"{self.name}: unknown extra {self.extra!r}; expected one of {', '.join(EXTRAS)}")
         if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
             raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
 

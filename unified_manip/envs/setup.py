@@ -55,8 +55,12 @@ def env_setup(task_id: str, **kwargs: Any) -> EnvSetup:
         ValueError: An unknown ID, action mode, reward type, controller option or camera,
             or a mode the task does not support (each with the valid choices).
         TypeError: A field of the wrong type.
+        unified_manip.extras.MissingExtra: The family's extra is not installed.
+        unified_manip.envs.mujoco_version.UnsupportedMuJoCo: The installed MuJoCo is
+            outside the supported range.
     """
     task = get_task(task_id)
+    task.require_installed()
     fields = {k: kwargs.pop(k) for k in CONFIG_FIELDS if k in kwargs}
     config = EnvConfig(**fields, options=kwargs)
     config.require_supported(task.id, task.action_modes)

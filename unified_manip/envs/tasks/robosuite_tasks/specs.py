@@ -52,6 +52,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         stability_steps=STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",
         make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native"),
+        extra="robosuite",
     )
     for name, term_set, goal_dim, steps, threshold, doc, policy, min_success in (
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),

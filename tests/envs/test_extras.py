@@ -1,0 +1,56 @@
+"""A task whose family needs an extra (robosuite's) says which, in one line, when the
+extra is missing: ``gym.make``, ``gym.make_vec`` and the upstream env alike.
+
+Where robosuite is installed, these tests hide it (``sys.modules["robosuite"] = None``,
+which Python's import system reads as "not installed"); on an install without it (the
+fast CI leg) they see the real absence."""
+
+from __future__ import annotations
+
+import sys
+
+import gymnasium as gym
+import pytest
+
+import unified_manip
+from unified_manip.extras import EXTRAS, MissingExtra
+
+MESSAGE = 'UnifiedManip/Lift-v0 needs the robosuite extra: pip install "unified_manip[robosuite]" (missing: robosuite)'
+
+
+@pytest.fixture
+def no_robosuite(monkeypatch):
+    monkeypatch.setitem(sys.modules, "robosuite", None)
+
+
+def test_only_the_robosuite_family_needs_an_extra():
+    extras = {spec.family: spec.extra for spec in unified_manip.TASKS.values()}
+    assert extras == {"arm4": None, "fetch": None, "shadow_hand": None, "robosuite": "robosuite"}
+    assert EXTRAS["robosuite"] == ("robosuite", "h5py")
+
+
+@pytest.mark.filterwarnings("ignore:.*no native vector env")
+def test_making_a_robosuite_id_without_the_extra_names_it(no_robosuite):
+    spec = unified_manip.TASKS["UnifiedManip/Lift-v0"]
+    assert not spec.installed
+    for make in (
+        lambda: gym.make("UnifiedManip/Lift-v0"),
+        lambda: gym.make("UnifiedManip/Lift-v0", action_mode="ee_delta", reward_type="dense"),
+        lambda: gym.make_vec("UnifiedManip/Lift-v0", num_envs=2),
+        spec.build_upstream,
+    ):
+        with pytest.raises(MissingExtra) as err:
+            make()
+        assert str(err.value) == MESSAGE
+    # The other families need nothing beyond the base install.
+    env = gym.make("UnifiedManip/Arm4Reach-v0")
+    env.reset(seed=0)
+    env.close()
+
+
+def test_an_unknown_extra_is_refused():
+    spec = unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"]
+    with pytest.raises(
+        ValueError, match="unknown extra 'robosuit'; expected one of train, bench, ray, zoo, datasets, robosuite"
+    ):
+        type(spec)(**{**spec.__dict__, "extra": "robosuit"})
