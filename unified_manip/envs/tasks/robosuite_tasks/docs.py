@@ -268,14 +268,20 @@ MILK_DOC = _pick_place(
     "milk carton",
     "x in [-0.095, 0.10], y in [0.035, 0.28] m",
     "8",
-    "The carton is 4 x 4 cm across and 14.4 cm tall: it fits the Panda's 8 cm opening at any turn.",
+    "The carton is 4 x 4 cm across and 14.4 cm tall: it fits the Panda's 8 cm opening at any turn. "
+    "The scripted ee_delta policy grasps it 4.5 cm above its centre (the hand clears its top), "
+    "lifts it 14 cm over the goal, carries it across, lowers it and lets go: 26 of 30 seeded "
+    "episodes (seeds 0-29).",
 )
 BREAD_DOC = _pick_place(
     "PickPlaceBread",
     "bread",
     "x in [0.10, 0.295], y in [0.035, 0.28] m",
     "4.5",
-    "The loaf is 4 x 4.8 cm across and 4.8 cm tall: it fits the Panda's 8 cm opening at any turn.",
+    "The loaf is 4 x 4.8 cm across and 4.8 cm tall: it fits the Panda's 8 cm opening at any turn. "
+    "The scripted ee_delta policy grasps it at its centre: 23 of 30 seeded episodes (seeds "
+    "0-29). It fails where the loaf lies within about 10 cm of a bin wall along the hand's "
+    "width: the hand, 20 cm wide, meets the wall's top before the fingers reach the loaf.",
 )
 CEREAL_DOC = _pick_place(
     "PickPlaceCereal",
@@ -283,7 +289,9 @@ CEREAL_DOC = _pick_place(
     "x in [-0.095, 0.10], y in [0.28, 0.525] m",
     "9.5",
     "The box is 3 x 10 cm across and 15 cm tall. The ee modes hold the gripper's turn, and "
-    "its fingers close across the box only when the box's narrow side faces them.",
+    "its fingers close across the box only when the box's narrow side faces them: the "
+    "scripted ee_delta policy (grasp 4 cm above the centre, as for the milk) succeeds in 14 "
+    "of 30 seeded episodes (seeds 0-29).",
 )
 
 SQUARE_NUT_DOC = f"""NutAssemblySquare: put the square nut on the square peg (robosuite NutAssemblySquare).
@@ -303,6 +311,12 @@ Goal (3,): achieved = nut body position, desired = point on the peg, m.
 Native success (robosuite): the nut within 3 cm of the peg axis in x and y, below
 5 cm above the table, and the gripper more than about 4 cm away. Difference by design:
 is_success does not require the gripper to have let go.
+
+The scripted ee_delta policy grasps the handle from above (where the nut's turn puts
+it), raises the nut over the peg, centres the hole on the peg's axis and lets go at
+the peg's top: held by its handle the nut tilts and catches there, let go it levels
+and drops down the peg. It succeeds in 12 of 30 seeded episodes (seeds 0-29); among the failures seen, grasps
+that never close on the handle, the nut turned across the fingers.
 
 {_MODES}
 {_OPTIONS}
@@ -329,6 +343,9 @@ Goal (1,): achieved = fraction wiped, desired = 1.
 
 No gripper: the joint modes take the n arm entries alone and the ee modes (dx, dy, dz);
 native takes robosuite's 6 OSC_POSE entries.
+
+Scripted policy: none. The observation gives the markers' centroid and spread, not the
+path they lie along, so a policy that follows the line needs more than it sees.
 
 {_MODES}
 {_OPTIONS}

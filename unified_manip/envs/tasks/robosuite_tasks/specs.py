@@ -60,10 +60,10 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
         ("NutAssemblyRound", "grasp", 3, 200, 0.02, NUT_DOC, None, None),
         ("Door", "push", 1, 150, 0.05, DOOR_DOC, door_policy, 0.8),
-        ("NutAssemblySquare", "grasp", 3, 200, 0.02, SQUARE_NUT_DOC, nut_policy, None),
-        ("PickPlaceMilk", "grasp", 3, 200, 0.05, MILK_DOC, milk_policy, None),
-        ("PickPlaceBread", "grasp", 3, 200, 0.05, BREAD_DOC, bread_policy, None),
-        ("PickPlaceCereal", "grasp", 3, 200, 0.05, CEREAL_DOC, cereal_policy, None),
+        ("NutAssemblySquare", "grasp", 3, 200, 0.02, SQUARE_NUT_DOC, nut_policy, 0.2),
+        ("PickPlaceMilk", "grasp", 3, 200, 0.05, MILK_DOC, milk_policy, 0.7),
+        ("PickPlaceBread", "grasp", 3, 200, 0.05, BREAD_DOC, bread_policy, 0.55),
+        ("PickPlaceCereal", "grasp", 3, 200, 0.05, CEREAL_DOC, cereal_policy, 0.25),
         # Wipe: success is every one of robosuite's 100 markers wiped: a fraction within
         # half a marker of 1. ToolHang: both stage flags set.
         ("Wipe", "push", 1, 500, 0.005, WIPE_DOC, None, None),
