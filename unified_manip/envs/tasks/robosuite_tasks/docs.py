@@ -224,10 +224,12 @@ the grip site to the handle (m), and the place term reads the angle error (rad).
 _PICK_PLACE = """{name}: pick up the {obj} from the left bin and place it in its quadrant of the right
 bin (robosuite {name}).
 
-The {obj} starts anywhere in bin 1, turned about z at random. Goal: a point in the
-{obj}'s quadrant of bin 2 ({quadrant}) at least 5 cm from the quadrant's walls,
-{z} cm above the bin's origin (its centre's height standing on the bin floor).
-Success: the {obj}'s centre within 5 cm of it. 200 steps of 50 ms.
+{robot_start}; the {obj} anywhere in bin 1, turned about z at random; the goal a
+point in the {obj}'s quadrant of bin 2 ({quadrant}) at least 5 cm from the quadrant's
+walls, {z} cm above the bin's origin (its centre's height standing on the bin floor).
+
+Success: the goal distance is the Euclidean distance between the {obj}'s centre and the
+goal point, in metres.
 
 {obs}
 Object state (14): {obj} position (3, m), quaternion (4), {obj} relative to the eef in
@@ -240,10 +242,14 @@ Difference by design: is_success does not require letting go.
 
 {extra}
 
-{modes}
-{options}
 {info}
-Dense reward: shaping "grasp".
+
+{modes}
+
+{rewards}
+
+{options}
+
 {history}
 """
 
@@ -259,6 +265,8 @@ def _pick_place(name: str, obj: str, quadrant: str, z: str, extra: str) -> str:
         modes=_MODES,
         options=_OPTIONS,
         info=_INFO,
+        robot_start=_ROBOT_START,
+        rewards=_GRASP_REWARDS.format(what=obj),
         history=_HISTORY.format(env=name),
     )
 
@@ -296,12 +304,15 @@ CEREAL_DOC = _pick_place(
 
 SQUARE_NUT_DOC = f"""NutAssemblySquare: put the square nut on the square peg (robosuite NutAssemblySquare).
 
-The nut starts on the right of the table, turned about z at random; the square peg
-(3.2 cm across) is fixed at (0.23, 0.10) m. The nut's hole is 4.55 cm across, so the peg
-passes it at any turn, with no clearance left at 45 degrees. Goal: the peg's axis, at a
-height U(0.005, 0.02) m above the table top (z = 0.82 m): the nut's body origin (the
-hole's centre) around the peg. Success: the nut's centre within 2 cm of it. 200 steps of
-50 ms.
+The square peg (3.2 cm across) is fixed at (0.23, 0.10) m. The nut's hole is 4.55 cm
+across, so the peg passes it at any turn, with no clearance left at 45 degrees.
+
+{_ROBOT_START}; the nut on the right of the table, turned about z at random; the goal a
+point on the peg's axis at a height U(0.005, 0.02) m above the table top (z = 0.82 m):
+the nut's body origin (the hole's centre) around the peg.
+
+Success: the goal distance is the Euclidean distance between the nut's body position and
+the goal point, in metres.
 
 {_OBS}
 Object state (14): nut position (3, m), quaternion (4), nut relative to the eef
@@ -318,10 +329,14 @@ the peg's top: held by its handle the nut tilts and catches there, let go it lev
 and drops down the peg. It succeeds in 12 of 30 seeded episodes (seeds 0-29); among the failures seen, grasps
 that never close on the handle, the nut turned across the fingers.
 
-{_MODES}
-{_OPTIONS}
 {_INFO}
-Dense reward: shaping "grasp".
+
+{_MODES}
+
+{_GRASP_REWARDS.format(what="nut's handle")}
+
+{_OPTIONS}
+
 {_HISTORY.format(env="NutAssemblySquare")}
 """
 
@@ -329,9 +344,12 @@ WIPE_DOC = f"""Wipe: wipe a line of 100 dirt markers off the table with a sponge
 
 The Panda carries robosuite's WipingGripper, a sponge with no moving part, instead of
 a gripper. A marker is wiped when the sponge's corners enclose it while the arm touches
-nothing else and is off its joint limits. The markers lie along a random path on the
-table. Goal: the fraction of the markers wiped; desired 1. Success: all 100 wiped
-(fraction within 0.005 of 1), exactly robosuite's success. 500 steps of 50 ms.
+nothing else and is off its joint limits.
+
+{_ROBOT_START}; the 100 markers along a random path on the table (robosuite's placement).
+
+Success: the goal is the fraction of the markers wiped, desired 1, and the goal distance
+1 minus the fraction: all 100 wiped (within 0.005 of 1), exactly robosuite's success.
 
 Observation (float32): robosuite's ``robot0_proprio-state`` then ``object-state``.
 Proprio (Panda: 47): joint pos (7, rad), cos, sin (7 each), joint vel (7, rad/s), joint
@@ -347,13 +365,17 @@ native takes robosuite's 6 OSC_POSE entries.
 Scripted policy: none. The observation gives the markers' centroid and spread, not the
 path they lie along, so a policy that follows the line needs more than it sees.
 
-{_MODES}
-{_OPTIONS}
 {_INFO}
-Dense reward: shaping "push": reach = 1 - tanh(5 |grip - centroid of the markers left|)
-(1 once all are wiped), place = 5 (1 - tanh(5 (1 - fraction))), success bonus 10. It has
-none of robosuite's own Wipe terms (contact, pressure, force and collision penalties):
-``native_reward`` gives those.
+
+{_MODES}
+
+Rewards: the template is "push": grip_to_object is the distance from the grip site to the
+centroid of the markers left (0 once all are wiped), and the place term reads 1 minus the
+fraction wiped. It has none of robosuite's own Wipe terms (contact, pressure, force and
+collision penalties): ``native_reward`` gives those.
+
+{_OPTIONS}
+
 {_HISTORY.format(env="Wipe")}
 """
 
@@ -364,9 +386,13 @@ tool with a hole at one end. The frame's free end goes into the stand's hole, th
 the tool's hole onto the frame's arm. Both stages are robosuite's own checks: the frame
 is assembled when the stand is upright and the frame's end stands between the stand's
 walls within 5 cm of its base; the tool is on the frame when it hangs there without
-touching the gripper. Goal: the two flags (frame assembled, tool on frame), 1.0 or 0.0
-each; desired (1, 1). Success: both (goal distance < 0.5), exactly robosuite's success.
-700 steps of 50 ms.
+touching the gripper.
+
+{_ROBOT_START}; the stand, frame and tool at robosuite's placements.
+
+Success: the goal is the two flags (frame assembled, tool on frame), 1.0 or 0.0 each,
+desired (1, 1), and the goal distance their Euclidean distance: both set (below 0.5),
+exactly robosuite's success.
 
 {_OBS}
 Object state (44): for the stand's base, the frame (its corner site) and the tool:
@@ -377,12 +403,16 @@ Goal (2,): achieved = (frame assembled, tool on frame), desired = (1, 1).
 Scripted policy: none. Both stages need the gripper turned (the frame is inserted
 upright, the tool's hole aligned with the frame's arm), and the ee modes hold its turn.
 
-{_MODES}
-{_OPTIONS}
 {_INFO}
-Dense reward: shaping "push": reach = 1 - tanh(5 |grip - object|), the object being the
-frame's corner until the frame is assembled, then the tool; place = 5 (1 - tanh(5 d))
-on the flags' distance d (0, 1 or 1.41); success bonus 10. A coarse shaping: it has no
-term for inserting the frame or aligning the tool.
+
+{_MODES}
+
+Rewards: the template is "push": grip_to_object is the distance from the grip site to the
+frame's corner until the frame is assembled, then to the tool (m), and the place term reads
+the flags' distance (0, 1 or 1.41). A coarse shaping: it has no term for inserting the
+frame or aligning the tool.
+
+{_OPTIONS}
+
 {_HISTORY.format(env="ToolHang")}
 """
