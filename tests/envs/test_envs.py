@@ -140,10 +140,11 @@ def test_seeded_determinism_side_by_side(pair):
     actions = random_actions(env1, 10, seed=1)  # long rollouts: the golden test
     for seed in (0, 7, 0):
         _assert_same(rollout(env1, seed, actions), rollout(env2, seed, actions))
-    # A different seed gives a different episode.
+    # A different seed gives a different episode: another goal, or (a task whose goal is
+    # always the same, e.g. a door fully open) another start.
     o1, _ = env1.reset(seed=1)
     o2, _ = env2.reset(seed=2)
-    assert not np.array_equal(o1["desired_goal"], o2["desired_goal"])
+    assert not all(np.array_equal(o1[k], o2[k]) for k in ("desired_goal", "observation"))
 
 
 def test_unseeded_reset_continues_the_rng_stream(pair):
@@ -193,7 +194,9 @@ def test_compute_terminated_and_truncated(pair, new_env):
     assert env.compute_truncated(ag, ag, info) is False
     env2 = new_env(task_id, mode, terminate_on_success=True).unwrapped
     assert env2.compute_terminated(ag, ag, info)
-    assert not env2.compute_terminated(ag, ag + 1.0, info)
+    # The episode's own goal (ag + 1 is no goal of a task whose goal holds a quaternion):
+    # terminated exactly where reset reported success, which it almost never does.
+    assert env2.compute_terminated(ag, obs["desired_goal"], info) == (info["is_success"] == 1.0)
 
 
 # ---------------------------------------------------------------------- episode end

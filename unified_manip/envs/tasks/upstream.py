@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import importlib
 import types
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -64,13 +64,22 @@ class UpstreamBackend(Backend):
         upstream: The upstream env class, or its ``"module:Class"`` name.
         family: The family's name, for error messages.
         scene: How the family's scene is drawn.
+        upstream_kwargs: More constructor arguments of the upstream env (a task variant's).
     """
 
-    def __init__(self, config: EnvConfig, upstream: type | str, family: str, scene: SceneOptions) -> None:
+    def __init__(
+        self,
+        config: EnvConfig,
+        upstream: type | str,
+        family: str,
+        scene: SceneOptions,
+        upstream_kwargs: Mapping[str, Any] | None = None,
+    ) -> None:
         if config.options:
             raise TypeError(f"{family} tasks take no extra options, got {sorted(config.options)}")
         cls = resolve(upstream) if isinstance(upstream, str) else upstream
-        up = cls(reward_type="sparse", width=config.render_width, height=config.render_height)
+        kwargs = dict(upstream_kwargs or {})
+        up = cls(reward_type="sparse", width=config.render_width, height=config.render_height, **kwargs)
         up.mujoco_renderer = None  # we render with our own renderer (see render())
         self._up = up
         self.dt = up.dt

@@ -18,8 +18,8 @@ from unified_manip.envs.tasks.shadow_hand import observations as obs_groups
 from unified_manip.envs.tasks.shadow_hand.rig import HandRig
 from unified_manip.envs.tasks.upstream import UpstreamBackend
 
-#: The block is still on the hand while its centre is above this height, m (upstream's reset check).
-BLOCK_ON_HAND_Z = 0.04
+#: The object is still on the hand while its centre is above this height, m (upstream's reset check).
+OBJECT_ON_HAND_Z = 0.04
 
 #: How the scene is drawn: upstream's free camera, every geom group.
 SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)
@@ -32,21 +32,33 @@ class HandBackend(UpstreamBackend):
         config: The validated env config.
         controller: The action mode's controller config (resolved by ``env_setup``).
         upstream_cls: The upstream env class, or its ``"module:Class"`` name.
-        has_object: Whether the task has an object (the block).
+        held: The object on the palm (``"block"``, ``"egg"``, ``"pen"``), or ``None``
+            (HandReach).
+        quantities: The names the task's term set reads the two object quantities by:
+            the palm-to-object distance and the on-the-hand flag (:meth:`quantities`).
+        upstream_kwargs: More constructor arguments of the upstream env (the ``Rotate``
+            variants' ``target_position="ignore"``).
     """
 
     def __init__(
-        self, config: EnvConfig, controller: ControllerConfig, upstream_cls: type | str, has_object: bool
+        self,
+        config: EnvConfig,
+        controller: ControllerConfig,
+        upstream_cls: type | str,
+        held: str | None = None,
+        quantities: tuple[str, str] = (GRIP_TO_OBJECT, GRASPED),
+        upstream_kwargs: Mapping[str, Any] | None = None,
     ) -> None:
-        super().__init__(config, upstream_cls, "Shadow Hand", SCENE)
-        self.has_object = has_object
+        super().__init__(config, upstream_cls, "Shadow Hand", SCENE, upstream_kwargs)
+        self.held = held
+        self._names = quantities
         self._native = config.action_mode == "native"
         self.rig = HandRig(self._up.model, self._up.data, self.dt)
         if not self._native:
             self.control = controller.build(self.rig)
         self.action_dim = self.rig.n
         m = self._up.model
-        if has_object:
+        if held is not None:
             self._palm = m.body("robot0:palm").id
             self._obj_q = int(m.jnt_qposadr[m.joint("object:joint").id])
 
@@ -69,17 +81,22 @@ class HandBackend(UpstreamBackend):
         self.rig.model, self.rig.data = self._up.model, self._up.data
 
     def observation_groups(self) -> Mapping[str, ObservationGroup]:
-        return obs_groups.BLOCK_GROUPS if self.has_object else obs_groups.REACH_GROUPS
+        return obs_groups.REACH_GROUPS if self.held is None else obs_groups.OBJECT_GROUPS[self.held]
 
     def default_observation(self) -> tuple[str, ...]:
-        return obs_groups.BLOCK_DEFAULT if self.has_object else obs_groups.REACH_DEFAULT
+        return obs_groups.REACH_DEFAULT if self.held is None else obs_groups.OBJECT_DEFAULT
 
     def quantities(self) -> dict[str, float]:
-        """Block: ``grip_to_object``, the palm-to-block distance (m), and ``grasped``, 1
-        while the block is still on the hand, i.e. its centre above z = 0.04 m (upstream's
-        reset criterion); 0 and 0 on HandReach (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
-        if not self.has_object:
-            return {GRIP_TO_OBJECT: 0.0, GRASPED: 0.0}
+        """With an object, under the term set's two names (``grip_to_object`` and
+        ``grasped`` for the block, :mod:`~unified_manip.envs.tasks.gripper_terms`;
+        ``palm_to_object`` and ``on_palm`` for the egg and pen,
+        :mod:`~unified_manip.envs.tasks.shadow_hand.terms`): the palm-to-object distance
+        (m), and 1 while the object is still on the hand, i.e. its centre above z =
+        0.04 m (upstream's reset criterion). HandReach: ``grip_to_object`` and
+        ``grasped``, 0 and 0."""
+        distance, on_hand = self._names
+        if self.held is None:
+            return {distance: 0.0, on_hand: 0.0}
         d = self._up.data
         obj = d.qpos[self._obj_q : self._obj_q + 3]
-        return {GRIP_TO_OBJECT: math.dist(d.xpos[self._palm], obj), GRASPED: float(obj[2] > BLOCK_ON_HAND_Z)}
+        return {distance: math.dist(d.xpos[self._palm], obj), on_hand: float(obj[2] > OBJECT_ON_HAND_Z)}

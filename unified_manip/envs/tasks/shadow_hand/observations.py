@@ -20,12 +20,20 @@ REACH_GROUPS: dict[str, G] = {
     "fingertip_pos": G("m (5 fingertips, world)", _up(48, 63)),
     "goal_rel": goal_rel_group("m (goal - fingertips)"),
 }
-BLOCK_GROUPS: dict[str, G] = {
-    **_JOINTS,
-    "object_vel": G("m/s, rad/s (block free joint)", _up(48, 54), "velocity"),
-    "object_pos": G("m (block centre, world)", _up(54, 57)),
-    "object_rot": G("quaternion (w, x, y, z)", _up(57, 61)),
-    "goal_rel": goal_rel_group("m, quaternion difference (goal - block pose)"),
-}
+
+
+def object_groups(name: str) -> dict[str, G]:
+    """The groups of a task with an object on the palm (``name``: the block, egg or pen)."""
+    return {
+        **_JOINTS,
+        "object_vel": G(f"m/s, rad/s ({name} free joint)", _up(48, 54), "velocity"),
+        "object_pos": G(f"m ({name} centre, world)", _up(54, 57)),
+        "object_rot": G("quaternion (w, x, y, z)", _up(57, 61)),
+        "goal_rel": goal_rel_group(f"m, quaternion difference (goal - {name} pose)"),
+    }
+
+
+#: The groups of each object's tasks, by the object's name.
+OBJECT_GROUPS: dict[str, dict[str, G]] = {name: object_groups(name) for name in ("block", "egg", "pen")}
 REACH_DEFAULT = ("joint_pos", "joint_vel", "fingertip_pos")
-BLOCK_DEFAULT = ("joint_pos", "joint_vel", "object_vel", "object_pos", "object_rot")
+OBJECT_DEFAULT = ("joint_pos", "joint_vel", "object_vel", "object_pos", "object_rot")
