@@ -58,10 +58,12 @@ VALVE_TURN_DOC = f"""ValveTurn: a two-link finger turns a valve to a target angl
 The finger (links of {LINKS[0]} and {LINKS[1]} m, hinges j0 and j1 about the vertical,
 base at the origin) and the valve (a wheel on a vertical hinge at x = {VALVE_AXIS[0]} m,
 with damping and friction) lie in the horizontal plane. The handle stands on the wheel's
-rim, {HANDLE_RADIUS} m from its axis; only the fingertip and the handle collide. At reset
-the valve's angle is uniform in [-pi, pi) and the target is {TURN_LOW}-{TURN_HIGH} rad
-from it, either way. Success: the valve within {THRESHOLD} rad of the target. 100 steps
-of 20 ms.
+rim, {HANDLE_RADIUS} m from its axis; only the fingertip and the handle collide.
+
+Starting state: the finger at rest; the valve's angle uniform in [-pi, pi); the target
+{TURN_LOW}-{TURN_HIGH} rad from it, either way.
+
+Success: the valve within {THRESHOLD} rad of the target (the wrapped angle difference).
 
 Observation ({sum(SIZES.values())},):
     index  group        units
@@ -72,9 +74,12 @@ Goal (1,): achieved = the valve's angle, desired = the target angle, rad, both w
 Action modes (action in [-1, 1], one entry per joint, no gripper; native is joint_delta;
 no end-effector modes: a planar finger has no z axis and no gripper):
 {modes_section(CONTROLLERS)}
-Dense reward: approach = 1 - tanh(5 |fingertip - handle|), turn = 5 (1 - tanh(5 d)),
-success bonus 10; dense_penalized adds action = -0.01 sum(a^2) and
+
+Rewards: the term set "valve" reads fingertip_to_handle (m) and valve_speed (rad/s):
+approach = 1 - tanh(5 |fingertip - handle|), turn = 5 (1 - tanh(5 d)), success bonus 10;
+dense_penalized adds action = -0.01 sum(a^2) and
 spin = -{SPIN_SCALE} max(0, valve_speed - {SPIN_LIMIT} rad/s).
+
 Version history: v0 initial.
 """
 
