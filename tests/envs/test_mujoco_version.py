@@ -96,3 +96,44 @@ def test_an_installed_mujoco_3_10_is_refused_in_one_line(tmp_path):
     )
     assert (cli.returncode, cli.stderr) == (2, f"unified-manip demo: error: {message('3.10.0')}\n")
     assert not (tmp_path / "d.png").exists()
+
+
+def _model(xml_body: str, extra: str = ""):
+    import mujoco
+
+    return mujoco.MjModel.from_xml_string(f"<mujoco><worldbody>{xml_body}</worldbody>{extra}</mujoco>")
+
+
+ARM = '<body name="a"><joint name="j"/><geom size=".1"/></body>'
+BOX = '<body name="box" pos="1 0 0"><freejoint/><geom size=".1"/></body>'
+
+
+def test_a_position_servo_is_the_mjcf_position_actuator():
+    """set_to_position on the installed MuJoCo compiles to MJCF's own <position kp kv>."""
+    import mujoco
+    import numpy as np
+
+    from unified_manip.envs.mujoco_version import set_to_position
+
+    spec = mujoco.MjSpec.from_string(f"<mujoco><worldbody>{ARM}</worldbody></mujoco>")
+    set_to_position(spec.add_actuator(name="s", target="j", trntype=mujoco.mjtTrn.mjTRN_JOINT), kp=37.0, kv=2.5)
+    built = spec.compile()
+    reference = _model(ARM, '<actuator><position name="s" joint="j" kp="37" kv="2.5"/></actuator>')
+    for field in ("gainprm", "biasprm", "dynprm", "gaintype", "biastype", "dyntype", "ctrllimited", "forcelimited"):
+        assert np.array_equal(getattr(built, f"actuator_{field}"), getattr(reference, f"actuator_{field}")), field
+
+
+def test_deleting_a_body_and_an_equality_leaves_the_model_without_them():
+    import mujoco
+    import numpy as np
+
+    from unified_manip.envs.mujoco_version import delete_element
+
+    weld = '<equality><weld body1="a" body2="box"/></equality>'
+    spec = mujoco.MjSpec.from_string(f"<mujoco><worldbody>{ARM}{BOX}</worldbody>{weld}</mujoco>")
+    for eq in list(spec.equalities):
+        delete_element(spec, eq)
+    delete_element(spec, spec.body("box"))
+    built, reference = spec.compile(), _model(ARM)
+    assert (built.nbody, built.neq, built.nq) == (reference.nbody, reference.neq, reference.nq) == (2, 0, 1)
+    assert np.array_equal(built.body_pos, reference.body_pos)

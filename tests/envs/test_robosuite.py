@@ -13,10 +13,11 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 import pytest
-import robosuite
 
 import unified_manip
 from unified_manip.envs.tasks import robosuite_tasks as rt
+
+pytestmark = pytest.mark.robosuite  # every test here needs the robosuite extra
 
 NAMES = (
     "Lift",
@@ -41,6 +42,8 @@ def _arrays_equal(a, b) -> bool:
 @pytest.mark.parametrize("name", NAMES)
 def test_native_matches_robosuite_make(name):
     """Same seed and actions: robosuite.make's observations and reward, bit for bit."""
+    import robosuite
+
     env = gym.make(f"UnifiedManip/{name}-v0", action_mode="native")
     obs, info = env.reset(seed=3)
     backend = env.unwrapped._backend
@@ -172,6 +175,8 @@ def test_success_implies_native_success_on_scripted_episodes():
 
 def test_nothing_written_to_home_or_site_packages(tmp_path):
     """Import, make every robosuite ID and step it in a fresh HOME: no files appear."""
+    import robosuite
+
     site = Path(robosuite.__file__).parents[1]
     before = {p for p in site.rglob("*") if "__pycache__" not in p.parts}
     home = tmp_path / "home"

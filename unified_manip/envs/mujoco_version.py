@@ -1,4 +1,5 @@
-"""The MuJoCo versions the families run on, checked before the first env is built.
+"""The MuJoCo versions the families run on, checked before the first env is built, and
+the API differences within that range this package meets.
 
 MuJoCo 3.10 changed ``mj_fullM``'s signature (robosuite 1.5.2's controllers call the old
 one), 3.11 removed ``MjData.qM`` (robosuite), and from 3.12 comparing MuJoCo's enums with
@@ -13,6 +14,7 @@ from __future__ import annotations
 import functools
 import re
 from importlib.metadata import PackageNotFoundError, version
+from typing import Any
 
 #: The supported range, as ``pyproject.toml`` requires it (tests/envs/test_mujoco_version.py).
 SUPPORTED = ">=3.3.0,<3.10"
@@ -52,3 +54,33 @@ def _installed() -> str | None:
         return version("mujoco")
     except PackageNotFoundError:
         return None
+
+
+def delete_element(spec: Any, element: Any) -> None:
+    """Remove ``element`` (a body, an equality, ...) from the ``mujoco.MjSpec`` ``spec``.
+
+    MuJoCo 3.9.0 has ``spec.delete(element)``; 3.3.0 has ``spec.detach_body(body)`` for a
+    body and ``element.delete()`` for the other elements instead."""
+    if hasattr(spec, "delete"):
+        spec.delete(element)
+    elif hasattr(spec, "detach_body") and element.__class__.__name__ == "MjsBody":
+        spec.detach_body(element)
+    else:
+        element.delete()
+
+
+def set_to_position(actuator: Any, kp: float, kv: float = 0.0) -> None:
+    """Make the ``mujoco.MjsActuator`` a position servo: force ``kp * (ctrl - q) - kv * qdot``.
+
+    ``actuator.set_to_position(kp=..., kv=...)`` where it exists (MuJoCo 3.9.0); on 3.3.0
+    the same fields set by hand (fixed gain ``kp``, affine bias ``(0, -kp, -kv)``)."""
+    if hasattr(actuator, "set_to_position"):
+        actuator.set_to_position(kp=kp, kv=kv)
+        return
+    import mujoco
+
+    actuator.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+    actuator.gainprm[0] = kp
+    actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    actuator.biasprm[1] = -kp
+    actuator.biasprm[2] = -kv

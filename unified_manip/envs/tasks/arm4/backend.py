@@ -13,6 +13,7 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.ik import MinkIK
 from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.mujoco_version import delete_element
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer, SceneOptions
@@ -56,7 +57,7 @@ def top_down(target: np.ndarray) -> np.ndarray:
 def _load_model(with_object: bool) -> mujoco.MjModel:
     spec = mujoco.MjSpec.from_file(str(ASSET))
     if not with_object:
-        spec.delete(spec.body("object"))
+        delete_element(spec, spec.body("object"))
     return spec.compile()
 
 

@@ -7,6 +7,7 @@ import math
 import mujoco
 import numpy as np
 
+from unified_manip.envs.mujoco_version import delete_element, set_to_position
 from unified_manip.envs.tasks.fetch.scene import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -26,7 +27,7 @@ def actuated_model(path: str, initial_qpos: np.ndarray, width: int, height: int)
     spec = mujoco.MjSpec.from_file(path)
     for eq in list(spec.equalities):
         if eq.type == mujoco.mjtEq.mjEQ_WELD:
-            spec.delete(eq)
+            delete_element(spec, eq)
     stack = [spec.body("robot0:shoulder_pan_link")]
     while stack:  # gravity compensation on the whole arm, gripper included
         body = stack.pop()
@@ -41,12 +42,12 @@ def actuated_model(path: str, initial_qpos: np.ndarray, width: int, height: int)
     for name in FINGER_JOINTS:
         if name not in existing:
             a = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-            a.set_to_position(kp=FINGER_KP)
+            set_to_position(a, kp=FINGER_KP)
             a.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
             a.ctrlrange = [0.0, FINGER_CTRL_MAX]
     for joint, actuator, kp, kv, tau in zip(ARM_JOINTS, ARM_ACTUATORS, ARM_KP, ARM_KV, ARM_TORQUE):
         a = spec.add_actuator(name=actuator, target=joint, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-        a.set_to_position(kp=kp, kv=kv)
+        set_to_position(a, kp=kp, kv=kv)
         a.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
         a.forcerange = [-tau, tau]
     spec.joint("robot0:torso_lift_joint").limited = mujoco.mjtLimited.mjLIMITED_FALSE
