@@ -89,6 +89,13 @@ def local_ray(test):
     return test
 
 
+def extra_marks(task_id: str) -> list:
+    """The marker of the extra ``task_id``'s family needs (``[pytest.mark.robosuite]``), or
+    none: for a parametrised value that is not itself an ID (the collection hook marks those)."""
+    extra = unified_manip.TASKS[task_id].extra
+    return [getattr(pytest.mark, extra)] if extra else []
+
+
 def overlay_venv(venv: Path, *requirements: str) -> str:
     """A fresh venv at ``venv`` that sees this venv's packages (through a .pth line) under
     its own ``requirements`` (installed there without their dependencies, e.g.

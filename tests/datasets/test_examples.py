@@ -17,6 +17,7 @@ from pathlib import Path
 
 import portable
 import pytest
+from conftest import extra_marks
 
 from unified_manip.datasets import store
 
@@ -37,7 +38,7 @@ def test_the_examples_are_the_committed_ones_and_small():
         assert sum(f.stat().st_size for f in (EXAMPLES / name).rglob("*") if f.is_file()) < 400_000
 
 
-@pytest.mark.parametrize("name", EXPECTED)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=extra_marks(e[0])) for n, e in EXPECTED.items()])
 def test_an_example_dataset_replays_exactly_from_its_states(name, tmp_path):
     task_id, episodes, mode, policy = EXPECTED[name]
     meta = store.metadata(store.open_dataset(EXAMPLES / name))

@@ -175,6 +175,7 @@ def test_the_vector_env_serves_the_single_envs_frames(task_id):
     reference.close()
 
 
+@pytest.mark.robosuite
 @pytest.mark.parametrize("camera,drawn,hidden", [("agentview", 1, 0), ("agentview_collision", 0, 1)])
 def test_robosuite_cameras_draw_visual_meshes_or_collision_geoms(camera, drawn, hidden):
     """``agentview`` draws robosuite's visual geoms (group 1); ``agentview_collision`` the

@@ -18,6 +18,7 @@ def _collision_green(frame: np.ndarray) -> int:
     return int(((g > 1.5 * r + 20) & (g > 1.5 * b + 20)).sum())
 
 
+@pytest.mark.robosuite
 def test_robosuite_frames_hide_the_collision_geoms():
     env = gym.make(
         "UnifiedManip/Lift-v0",

@@ -7,12 +7,15 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import unified_manip
 from unified_manip.tools import gauges, soak
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.mark.robosuite  # a cycle of every family
 def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
     out = tmp_path / "soak.json"
     proc = subprocess.run(

@@ -304,6 +304,7 @@ def test_ctrl_c_while_demonstrations_play_stops_the_run_with_them_checkpointed(t
     assert _buffer_rows(run / "replay_buffer.pkl") == 500
 
 
+@pytest.mark.robosuite
 def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controller(tmp_path):
     """tqc_her.yaml gives Lift-v0 100 demonstrations (test_train checks the resolved
     entries), and its "Lift-v0 native" entry takes them out again, as no scripted policy
