@@ -17,6 +17,7 @@ import numpy as np
 from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.randomization.entities import Entity
 from unified_manip.envs.termsets import TermSet
 
 if TYPE_CHECKING:
@@ -68,6 +69,9 @@ class TaskSpec:
             and ``step(action)``); ``None`` means ``gym.make(upstream_id)``.
         cameras: The cameras of image observations (``camera=``), by name, the default
             first (:mod:`unified_manip.envs.cameras`); the family declares them once.
+        entities: The named parts of the task's model that randomisation terms address
+            (``object``, ``table``, ``robot``, ``light``, ``camera``), each an
+            :class:`~unified_manip.envs.randomization.Entity`; the family declares them once.
     """
 
     name: str
@@ -89,6 +93,7 @@ class TaskSpec:
     upstream_id: str | None = None
     make_upstream: Callable[[], object] | None = None
     cameras: Mapping[str, CameraConfig] = field(default_factory=dict)
+    entities: Mapping[str, Entity] = field(default_factory=dict)
 
     def build_upstream(self):
         """The wrapped upstream env, for side-by-side benchmarks."""
@@ -110,6 +115,9 @@ class TaskSpec:
         bad = [name for name, c in self.cameras.items() if not isinstance(c, CameraConfig)]
         if bad:
             raise TypeError(f"{self.name}: the cameras {bad} are not CameraConfig instances")
+        bad = [name for name, e in self.entities.items() if not isinstance(e, Entity)]
+        if bad:
+            raise TypeError(f"{self.name}: the entities {bad} are not Entity instances")
         if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
             raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
 

@@ -7,6 +7,7 @@ from dataclasses import replace
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.arm4.cameras import CAMERAS
+from unified_manip.envs.tasks.arm4.entities import ENTITIES
 from unified_manip.envs.tasks.arm4.controllers import CONTROLLERS, CONTROLLERS_25HZ
 from unified_manip.envs.tasks.arm4.docs import (
     PICK_AND_PLACE_DOC,
@@ -36,6 +37,7 @@ V0: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=0.9,
         render_fps=50,
         cameras=CAMERAS,
+        entities=ENTITIES,
     )
     for name, scene, term_set, steps, doc, policy in (
         ("Arm4Reach", "reach", "reach", 50, REACH_DOC, reach_policy),

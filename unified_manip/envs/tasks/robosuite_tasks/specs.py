@@ -6,6 +6,7 @@ from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
+from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
@@ -35,6 +36,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=min_success,
         render_fps=20,
         cameras=CAMERAS,
+        entities=ENTITIES[name],
         scripted_episodes=SCRIPTED_EPISODES,
         stability_steps=STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",

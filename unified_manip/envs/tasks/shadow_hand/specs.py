@@ -6,6 +6,7 @@ from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec, euclidean
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.shadow_hand.cameras import CAMERAS
+from unified_manip.envs.tasks.shadow_hand.entities import ENTITIES
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
 from unified_manip.envs.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
@@ -30,6 +31,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         goal_distance=distance,
         render_fps=25,
         cameras=CAMERAS,
+        entities=ENTITIES,
         stability_steps=STABILITY_STEPS,
         upstream_id=upstream_id,
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),
