@@ -16,7 +16,7 @@ from typing import Any, Mapping, Sequence
 import mujoco
 import numpy as np
 
-from unified_manip.envs.randomization.draws import draw
+from unified_manip.envs.randomization.draws import DrawPlan
 from unified_manip.envs.randomization.entities import Entity, Resolved, resolve
 from unified_manip.envs.randomization.fields import CannotApply, FieldWriter, writer
 from unified_manip.envs.randomization.geometry import Geometry
@@ -84,14 +84,16 @@ class Randomizer:
                 self.skipped.append(f"{term.label}: {err}")
                 continue
             labels.add(term.label)
-        # Shape first, so that a size drawn at the same reset scales the new shape.
-        self._order = sorted(self.writers, key=lambda w: w.term.field != "shape")
         geoms = [int(g) for w in self.writers if w.term.field in ("size", "shape") for g in w.ids]
         bodies = [int(b) for w in self.writers if w.term.field == "mass" for b in w.ids]
         solids: list[Resolved] = [r for r in present.values() if r.solid]
         self.geometry = Geometry(model, geoms, bodies, solids)
         self.geometry.capture_rest(backend)
-        self._keys = {id(w): _keys(w) for w in self.writers}
+        # The draws of a first or seeded reset (every term), of any other reset (no
+        # startup term), and of each step that draws interval terms (built when first due).
+        self._plans: dict[tuple[int, ...], tuple[DrawPlan, list[str], list[FieldWriter]]] = {}
+        self._orders: dict[tuple[int, ...], list[int]] = {}
+        self._every = sorted({w.term.every for w in self.writers if w.term.mode == "interval"})
         self._state: dict[str, float] = {}
         self._started = False
         self._steps = 0
@@ -105,36 +107,52 @@ class Randomizer:
         """Draw and write the terms due at a reset (before the backend's reset): every
         ``reset`` and ``interval`` term, and the ``startup`` ones at the first reset and
         at a reset given a seed. Returns the values in force (``info["randomization"]``)."""
-        due = [w for w in self.writers if w.term.mode != "startup" or seeded or not self._started]
+        every = seeded or not self._started
         self._started = True
         self._steps = 0
-        self._apply(backend, np_random, due, keep_state=False)
+        self._apply(
+            backend, np_random, tuple(i for i, w in enumerate(self.writers) if every or w.term.mode != "startup"), False
+        )
         return dict(self._state)
 
     def step(self, backend, np_random: np.random.Generator) -> dict[str, float] | None:
         """Draw the ``interval`` terms due before this step's physics; the values in force
         when any was drawn, else None."""
-        due = [w for w in self.writers if w.term.mode == "interval" and self._steps and not self._steps % w.term.every]
+        steps = self._steps
         self._steps += 1
-        if not due:
+        if not steps or not any(steps % k == 0 for k in self._every):
             return None
-        self._apply(backend, np_random, due, keep_state=True)
+        due = tuple(i for i, w in enumerate(self.writers) if w.term.mode == "interval" and steps % w.term.every == 0)
+        self._apply(backend, np_random, due, True)
         return dict(self._state)
 
     def state(self) -> dict[str, float]:
         """The values in force, by ``info["randomization"]`` key."""
         return dict(self._state)
 
-    def _apply(self, backend, np_random: np.random.Generator, due: list[FieldWriter], keep_state: bool) -> None:
-        drawn = {id(w): draw(w.term, np_random, w.count) for w in due}  # in term order
+    def _plan(self, due: tuple[int, ...]) -> tuple[DrawPlan, list[str], list[FieldWriter]]:
+        plan = self._plans.get(due)
+        if plan is None:
+            writers = [self.writers[i] for i in due]
+            keys = [k for w in writers for k in _keys(w)]
+            order = sorted(range(len(writers)), key=lambda j: writers[j].term.field != "shape")
+            plan = self._plans[due] = (
+                DrawPlan([(w.term, w.count) for w in writers]),
+                keys,
+                [writers[j] for j in order],
+            )
+            self._orders[due] = order
+        return plan
+
+    def _apply(self, backend, np_random: np.random.Generator, due: tuple[int, ...], keep_state: bool) -> None:
+        plan, keys, writers = self._plan(due)
+        flat, blocks = plan.draw(np_random)  # in term order
         model = backend.model
-        for w in self._order:
-            if id(w) in drawn:
-                values = drawn[id(w)]
-                w.write(model, values, self.geometry)
-                self._state.update(zip(self._keys[id(w)], (float(v) for v in values.reshape(-1))))
+        for w, j in zip(writers, self._orders[due]):  # shape first, so that a size drawn with it scales it
+            w.write(model, blocks[j], self.geometry)
+        self._state.update(zip(keys, flat.tolist()))
         self.geometry.commit(model, backend)
-        if any(w.needs_const for w in due):
+        if any(w.needs_const for w in writers):
             data = backend.data
             if keep_state:  # mj_setConst works at qpos0: keep the episode's state
                 state = np.empty(mujoco.mj_stateSize(model, _STATE))
