@@ -82,7 +82,11 @@ def main(argv: list[str] | None = None) -> int:
     rows = {f: measure(*TASKS[f], args.resets) for f in (args.family or TASKS)}
     result = {
         "command": "python benchmarks/randomization_cost.py " + " ".join(argv if argv is not None else sys.argv[1:]),
-        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(), "processor": platform.processor()},
+        "machine": {
+            "python": platform.python_version(),
+            "cpus": os.cpu_count(),
+            "load_average_1min_at_end": round(os.getloadavg()[0], 2),
+        },
         "target_overhead": TARGET,
         "families": rows,
     }

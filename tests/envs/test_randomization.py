@@ -109,6 +109,18 @@ def test_a_term_the_task_cannot_take_fails_at_make(task_id, term, message):
     assert message in str(err.value)
 
 
+def test_a_pushed_object_keeps_its_shape():
+    env = _make("UnifiedManip/Arm4Push-v0", randomization="objects")
+    try:
+        assert "object.shape" not in {t.label for t in env.unwrapped.randomizer.terms}
+        assert any("keeps its shape" in s for s in env.unwrapped.randomizer.skipped)
+    finally:
+        env.close()
+    sphere = dict(entity="object", field="shape", operation="abs", shapes=("box", "sphere"))
+    with pytest.raises(ValueError, match=r"entity 'object' cannot become a sphere; it takes box"):
+        _make("UnifiedManip/FetchPush-v0", randomization=[sphere])
+
+
 def test_a_preset_that_applies_to_nothing_says_why():
     with pytest.raises(
         ValueError, match=r"'objects' has no term that applies to UnifiedManip/Arm4Reach-v0.*no 'object'"

@@ -43,6 +43,8 @@ class Entity:
         solid: The entity is one body whose collision geom is a primitive solid resting
             on the table (a cube): ``size`` keeps it resting there and ``shape`` may turn
             it into another primitive. Its inertia follows its mass, size and shape.
+        shapes: The shapes the task can take (a pushed object stays a box: a round one
+            rolls off the pusher's line); a preset's ``shape`` term keeps these.
         rest: How the task places the solid at reset (see :class:`RestHeight`), or None.
         doc: One line for the documentation.
     """
@@ -54,6 +56,7 @@ class Entity:
     lights: str = ""
     cameras: str = ""
     solid: bool = False
+    shapes: tuple[str, ...] = ("box", "cylinder", "sphere")
     rest: RestHeight | None = None
     doc: str = field(default="", compare=False)
 
@@ -73,6 +76,7 @@ class Resolved:
     ids: Mapping[str, np.ndarray]
     solid: bool = False
     rest: RestHeight | None = None
+    shapes: tuple[str, ...] = ()
 
     def part(self, name: str) -> np.ndarray:
         return self.ids[name]
@@ -118,4 +122,4 @@ def resolve(name: str, entity: Entity, model) -> Resolved:
             names = [n or bodies[model.geom_bodyid[i]] for i, n in enumerate(names)]
         regex = re.compile(pattern)
         ids[part] = np.array([i for i, n in enumerate(names) if regex.fullmatch(n)], dtype=np.int64)
-    return Resolved(name, ids, entity.solid, entity.rest)
+    return Resolved(name, ids, entity.solid, entity.rest, tuple(entity.shapes))

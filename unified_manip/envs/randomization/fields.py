@@ -144,6 +144,11 @@ class GeomShape(FieldWriter):
                 f"{task_id}: entity {entity.name!r} is not a primitive solid the family lets change shape "
                 "(a mesh or a body of several parts); shape applies to the objects families mark as solid"
             )
+        barred = [s for s in term.shapes if s not in entity.shapes]
+        if barred:
+            raise CannotApply(
+                f"{task_id}: entity {entity.name!r} cannot become a {barred[0]}; it takes {', '.join(entity.shapes)}"
+            )
 
     def _capture(self, model) -> np.ndarray:
         bad = [n for n, g in zip(self.elements, self.ids) if int(model.geom_type[g]) not in PRIMITIVES]

@@ -35,13 +35,13 @@ DYNAMICS_EXTREME: tuple[RandomizationTerm, ...] = (
 #: The object: its shape, size, mass and friction.
 OBJECTS: tuple[RandomizationTerm, ...] = (
     T("object", "shape", operation="abs", shapes=("box", "cylinder", "sphere")),
-    T("object", "size", (0.8, 1.2)),
+    T("object", "size", (0.9, 1.1)),
     T("object", "mass", (0.5, 2.0), "log_uniform"),
     T("object", "friction", (0.5, 1.5)),
 )
 OBJECTS_EXTREME: tuple[RandomizationTerm, ...] = (
     T("object", "shape", operation="abs", shapes=("box", "cylinder", "sphere")),
-    T("object", "size", (0.6, 1.4), exclude=(0.8, 1.2)),
+    T("object", "size", (0.7, 1.3), exclude=(0.9, 1.1)),
     T("object", "mass", (0.25, 4.0), "log_uniform", exclude=(0.5, 2.0)),
     T("object", "friction", (0.25, 2.0), exclude=(0.5, 1.5)),
 )

@@ -11,6 +11,7 @@ draws as the single env.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Mapping, Sequence
 
 import mujoco
@@ -71,6 +72,12 @@ class Randomizer:
                     )
                 self.skipped.append(f"{term.label}: {task_id} has no {term.entity!r}")
                 continue
+            if not strict and term.field == "shape":  # a preset keeps the shapes the task takes
+                kept = tuple(x for x in term.shapes if x in present[term.entity].shapes)
+                if len(kept) < 2:
+                    self.skipped.append(f"{term.label}: {term.entity!r} keeps its shape on {task_id}")
+                    continue
+                term = replace(term, shapes=kept)
             if not strict and term.field == "size" and not present[term.entity].solid:
                 self.skipped.append(f"{term.label}: a preset resizes solids only, and {term.entity!r} is not one")
                 continue

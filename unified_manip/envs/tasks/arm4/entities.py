@@ -13,14 +13,18 @@ def _set_rest_z(backend, z: float) -> None:
     backend.object_rest_z = z
 
 
-ENTITIES: dict[str, Entity] = {
-    "object": Entity(
+def _cube(shapes: tuple[str, ...]) -> Entity:
+    return Entity(
         bodies="object",
         geoms="object_geom",
         solid=True,
+        shapes=shapes,
         rest=RestHeight(_rest_z, _set_rest_z),
-        doc="the cube (a primitive solid: its shape may change)",
-    ),
+        doc=f"the cube (a primitive solid: {', '.join(shapes)})",
+    )
+
+
+_SHARED: dict[str, Entity] = {
     "table": Entity(bodies="table", geoms="table_top|table_leg", doc="the table"),
     "robot": Entity(
         bodies="base|link[123]|gripper|finger_(left|right)",
@@ -31,4 +35,12 @@ ENTITIES: dict[str, Entity] = {
     ),
     "light": Entity(lights="key|fill", doc="the key and fill lights"),
     "camera": Entity(cameras="front|wrist", doc="the front and wrist cameras"),
+}
+
+#: Each scene's entities: the cube of a push task stays a box (a round object rolls off
+#: the pusher's line), the one picked up may become a cylinder or a sphere.
+ENTITIES: dict[str, dict[str, Entity]] = {
+    "reach": _SHARED,
+    "push": {"object": _cube(("box",)), **_SHARED},
+    "pick_and_place": {"object": _cube(("box", "cylinder", "sphere")), **_SHARED},
 }

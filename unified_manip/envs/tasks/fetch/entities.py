@@ -23,14 +23,18 @@ def _set_rest_z(backend, z: float) -> None:
     backend._up.initial_qpos[_object_z(backend)] = z
 
 
-ENTITIES: dict[str, Entity] = {
-    "object": Entity(
+def _block(shapes: tuple[str, ...]) -> Entity:
+    return Entity(
         bodies="object0",
         geoms="object0",
         solid=True,
+        shapes=shapes,
         rest=RestHeight(_rest_z, _set_rest_z),
-        doc="the block (a primitive solid: its shape may change)",
-    ),
+        doc=f"the block (a primitive solid: {', '.join(shapes)})",
+    )
+
+
+_SHARED: dict[str, Entity] = {
     "table": Entity(bodies="table0", geoms="table0", doc="the table (its top is unnamed: matched by its body)"),
     "robot": Entity(
         bodies=r"robot0:(shoulder|upperarm|elbow|forearm|wrist|gripper|[lr]_gripper_finger).*_link",
@@ -41,4 +45,13 @@ ENTITIES: dict[str, Entity] = {
     ),
     "light": Entity(lights="light0", doc="the scene's light"),
     "camera": Entity(cameras="head_camera_rgb|gripper_camera_rgb|external_camera_0", doc="the model's cameras"),
+}
+
+#: Each task's entities: a pushed or slid block stays a box (a round one rolls off the
+#: pusher's line); the one picked up may become a cylinder or a sphere.
+ENTITIES: dict[str, dict[str, Entity]] = {
+    "Reach": _SHARED,
+    "Push": {"object": _block(("box",)), **_SHARED},
+    "Slide": {"object": _block(("box",)), **_SHARED},
+    "PickAndPlace": {"object": _block(("box", "cylinder", "sphere")), **_SHARED},
 }

@@ -1,7 +1,8 @@
 """robosuite's named entities, per task, which randomisation terms address (``TaskSpec.entities``).
 
 The object differs by task. Lift's cube and Stack's cube A (the one picked up) are
-primitive solids whose shape may change; robosuite drops them from 1 cm above the table
+primitive solids that may become cylinders (not spheres: the scripted Panda grasp lost
+every 2 cm-radius sphere on Lift); robosuite drops them from 1 cm above the table
 (its placement sampler's ``z_offset``), so a resized cube needs no rest height. The can
 is a mesh, the round nut a ring of boxes and the door a hinged panel: they keep their shape.
 """
@@ -31,7 +32,13 @@ _SHARED: dict[str, Entity] = {
 
 
 def _cube(prefix: str) -> Entity:
-    return Entity(bodies=f"{prefix}_main", geoms=f"{prefix}_g0(_vis)?", solid=True, doc=f"the cube {prefix!r}")
+    return Entity(
+        bodies=f"{prefix}_main",
+        geoms=f"{prefix}_g0(_vis)?",
+        solid=True,
+        shapes=("box", "cylinder"),
+        doc=f"the cube {prefix!r} (box or cylinder)",
+    )
 
 
 #: Each task's entities: the shared ones and its object.

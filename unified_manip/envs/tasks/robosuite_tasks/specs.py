@@ -6,9 +6,9 @@ from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
-from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 

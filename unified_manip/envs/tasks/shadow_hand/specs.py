@@ -6,9 +6,9 @@ from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec, euclidean
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.shadow_hand.cameras import CAMERAS
-from unified_manip.envs.tasks.shadow_hand.entities import ENTITIES
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC
+from unified_manip.envs.tasks.shadow_hand.entities import ENTITIES
 from unified_manip.envs.tasks.shadow_hand.goals import BLOCK_POSITION_THRESHOLD, block_goal_distance
 
 _BACKEND = "unified_manip.envs.tasks.shadow_hand.backend:HandBackend"
