@@ -25,7 +25,15 @@ class DrawPlan:
     """
 
     def __init__(self, terms: Sequence[tuple[RandomizationTerm, int]]) -> None:
-        lo, span, x0, gap, log, k, gauss, mean, std = ([] for _ in range(9))
+        lo: list[float] = []
+        span: list[float] = []
+        x0: list[float] = []
+        gap: list[float] = []
+        log: list[bool] = []
+        k: list[float] = []
+        gauss: list[bool] = []
+        mean: list[float] = []
+        std: list[float] = []
         self.splits: list[tuple[int, int, tuple[int, int]]] = []
         n = 0
         for term, rows in terms:
@@ -41,23 +49,23 @@ class DrawPlan:
             if term.exclude is not None:
                 e0, e1 = (math.log(v) for v in term.exclude) if is_log else term.exclude
                 cut, jump = e0, e1 - e0
-            for values, value in (
+            for floats, value in (
                 (lo, low),
                 (span, high - low - jump),
                 (x0, cut),
                 (gap, jump),
-                (log, is_log),
-                (k, len(term.shapes) if term.field == "shape" else 0),
-                (gauss, term.distribution == "gaussian"),
+                (k, float(len(term.shapes)) if term.field == "shape" else 0.0),
                 (mean, term.range[0]),
                 (std, term.range[1]),
             ):
-                values.extend([value] * size)
+                floats.extend([value] * size)
+            log.extend([is_log] * size)
+            gauss.extend([term.distribution == "gaussian"] * size)
         self.size = n
         self._lo, self._span, self._x0, self._gap = (np.array(v, dtype=np.float64) for v in (lo, span, x0, gap))
-        self._log = np.array(log, dtype=bool)
+        self._log = np.array(log, dtype=np.bool_)
         self._k = np.array(k, dtype=np.float64)
-        self._gauss = np.array(gauss, dtype=bool)
+        self._gauss = np.array(gauss, dtype=np.bool_)
         self._mean, self._std = np.array(mean, dtype=np.float64), np.array(std, dtype=np.float64)
         self._any = (bool(self._log.any()), bool(self._k.any()), bool(self._gauss.any()))
         self._excludes = bool(np.isfinite(self._x0).any())

@@ -32,7 +32,8 @@ class CannotApply(ValueError):
 def _joint_dofs(model, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each joint's dof addresses, and the joint each dof belongs to (its row)."""
     width = {0: 6, 1: 3, 2: 1, 3: 1}  # free, ball, slide, hinge
-    dofs, rows = [], []
+    dofs: list[int] = []
+    rows: list[int] = []
     for row, j in enumerate(joints):
         n = width[int(model.jnt_type[j])]
         dofs.extend(range(int(model.jnt_dofadr[j]), int(model.jnt_dofadr[j]) + n))

@@ -158,8 +158,8 @@ class Geometry:
                 geom = solid[0]
                 model.body_inertia[b] = _inertia(int(model.geom_type[geom]), model.geom_size[geom], model.body_mass[b])
                 if solid[1] is not None:
-                    half = _half_height(int(model.geom_type[geom]), model.geom_size[geom])
-                    solid[1].set(backend, solid[2] + half - solid[3])
+                    height = _half_height(int(model.geom_type[geom]), model.geom_size[geom])
+                    solid[1].set(backend, solid[2] + height - solid[3])
             elif self._mass0[b] > 0:
                 model.body_inertia[b] = self._inertia0[b] * (model.body_mass[b] / self._mass0[b])
         self._dirty_geoms.clear()

@@ -162,10 +162,11 @@ class RandomizationTerm:
             raise ValueError("a 'shape' term draws among its shapes; it takes no exclude")
 
     def _check_exclude(self) -> None:
-        object.__setattr__(self, "exclude", _pair("exclude", self.exclude))
+        exclude = _pair("exclude", self.exclude)
+        object.__setattr__(self, "exclude", exclude)
         if self.distribution == "gaussian":
             raise ValueError("exclude needs distribution 'uniform' or 'log_uniform', not 'gaussian'")
-        (low, high), (x0, x1) = self.range, self.exclude
+        (low, high), (x0, x1) = self.range, exclude
         if not low <= x0 <= x1 <= high:
             raise ValueError(f"exclude {self.exclude} must lie inside range {self.range}")
         if x0 == low and x1 == high:

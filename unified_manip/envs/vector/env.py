@@ -269,7 +269,7 @@ class NativeVectorEnv(VectorEnv):
         its drawn values go to ``drawn[i]``; returns its extra reset info."""
         if self._randomizers is not None:
             drawn[i] = self._randomizers[i].reset(self._batched.backend(i), self._rng(i), seeded)
-        return self._batched.reset(i, self._rngs[i])
+        return self._batched.reset(i, self._rng(i))
 
     def _merge_drawn(self, info: dict[str, Any], drawn: Mapping[int, Mapping[str, float]]) -> dict[str, Any]:
         return vinfo.merge_rows(info, "randomization", drawn, self.num_envs)
