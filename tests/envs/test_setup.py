@@ -11,8 +11,8 @@ from test_vector import assert_same, pair, play
 import unified_manip
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.rewards import RewardConfig, RewardScales
-from unified_manip.envs.tasks.gripper_terms import GRASP
 from unified_manip.envs.setup import CONFIG_FIELDS, env_setup
+from unified_manip.envs.tasks.gripper_terms import GRASP
 from unified_manip.envs.vector import native_support
 from unified_manip.envs.vector.env import NativeVectorEnv
 
