@@ -6,7 +6,10 @@ env returns (whatever observation design it was made with), the action, the rewa
 state. The dataset's env spec holds the ID and every ``gym.make`` keyword argument, so
 ``dataset.recover_environment()`` rebuilds this exact env; the metadata under
 ``unified_manip`` (:data:`~.store.KEY`) adds the policy and its source, the package
-versions, the success rate and the episodes dropped by ``only_successful``.
+versions, the success rate, the episodes dropped by ``only_successful``, and the
+domain randomisation the env applied (``randomization``: its terms and the preset terms
+the task left out). Its drawn values are each episode's ``infos/randomization`` (the
+reset's row); the reset seeds redraw them, so ``replay`` stays exact.
 """
 
 from __future__ import annotations
@@ -73,6 +76,8 @@ def collect(
     import gymnasium as gym
     from tqdm import tqdm
 
+    from unified_manip.envs.randomization.randomizer import randomization_info
+
     if episodes <= 0:
         raise DatasetError(f"--episodes must be a positive number of episodes; got {episodes}")
     out = store.check_out(Path(out), overwrite)
@@ -107,6 +112,7 @@ def collect(
             "success_rate": successes / played,
             "dropped_episodes": played - len(kept),
             "only_successful": only_successful,
+            "randomization": randomization_info(env.unwrapped.randomizer),
         }
         description = f"{len(kept)} episodes of the {policy} policy ({source}) in {env_id} {env_kwargs}"
         store.publish(out, kept, env, meta, description)

@@ -36,8 +36,11 @@ class Backend(abc.ABC):
         dt: Simulated seconds per env step.
         model: The simulator's ``mujoco.MjModel`` (every family runs on MuJoCo).
         data: Its ``mujoco.MjData``, which the env steps.
+        pickles_model: Pickling keeps the model as it is (randomised fields included);
+            False for a backend that rebuilds its simulator when unpickled.
     """
 
+    pickles_model: bool = True
     action_dim: int
     dt: float
     model: Any

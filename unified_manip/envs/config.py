@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 from unified_manip.envs.cameras import DEFAULT_IMAGE_SIZE, split_images, validate_image_size
 from unified_manip.envs.observations import validate_count, validate_noise
+from unified_manip.envs.randomization.presets import preset_terms
+from unified_manip.envs.randomization.terms import RandomizationTerm, term_from
 from unified_manip.envs.rewards import RewardConfig, RewardSpec, validate_reward_type
 
 if TYPE_CHECKING:
@@ -84,6 +86,11 @@ class EnvConfig:
             (``TaskSpec.cameras``), or ``None`` for its first
             (:mod:`unified_manip.envs.cameras`).
         image_size: Side of the square ``rgb`` and ``depth`` images, pixels.
+        randomization: Domain randomisation: a preset (``"none"``, the nominal task;
+            ``"dynamics"``, ``"objects"``, ``"visual"``, ``"all"``, joined by ``+``, each
+            optionally ``:extreme``) or a list of
+            :class:`~unified_manip.envs.randomization.RandomizationTerm` s (or mappings of
+            their fields) (:mod:`unified_manip.envs.randomization`).
     """
 
     action_mode: str = "native"
@@ -103,6 +110,7 @@ class EnvConfig:
     observation_delay: int = 0
     camera: str | None = None
     image_size: int = DEFAULT_IMAGE_SIZE
+    randomization: str | tuple[RandomizationTerm, ...] = "none"
 
     def __post_init__(self) -> None:
         validate_action_mode(self.action_mode)
@@ -146,6 +154,12 @@ class EnvConfig:
         validate_noise(self.observation_noise)
         if isinstance(self.observation_noise, Mapping):
             object.__setattr__(self, "observation_noise", dict(self.observation_noise))
+        if isinstance(self.randomization, str):
+            preset_terms(self.randomization)
+        elif isinstance(self.randomization, (list, tuple)):
+            object.__setattr__(self, "randomization", tuple(term_from(t) for t in self.randomization))
+        else:
+            raise TypeError(f"randomization must be a preset name or a list of terms, got {self.randomization!r}")
 
     def reward_design(self, terms: TermSet) -> RewardSpec:
         """The reward design an env with this config uses: :attr:`reward_spec` if given,

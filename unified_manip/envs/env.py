@@ -12,6 +12,7 @@ from gymnasium_robotics.core import GoalEnv
 from unified_manip.envs.cameras import image_sensor, observation_box
 from unified_manip.envs.controllers.actions import checked_actions, squared_norm
 from unified_manip.envs.observations import build_stream, reattach
+from unified_manip.envs.randomization.randomizer import Randomizer, build_randomizer
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.setup import env_setup
@@ -46,6 +47,9 @@ class UnifiedManipEnv(GoalEnv):
         observation_delay: ``observation`` of this many steps earlier (goals stay exact).
         camera: The camera of the ``"rgb"`` / ``"depth"`` image groups (the task's first if None).
         image_size: Side of the square images in pixels (84).
+        randomization: Domain randomisation: a preset (``"none"``, ``"dynamics"``,
+            ``"objects"``, ``"visual"``, ``"all"``, optionally ``:extreme``) or a list of
+            terms (:mod:`unified_manip.envs.randomization`).
         **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
 
     Observation:
@@ -57,7 +61,9 @@ class UnifiedManipEnv(GoalEnv):
         ``is_success`` (1.0 / 0.0), the task's reward inputs (its term set's
         ``info_keys``, ``action_sq`` among them), ``sim_unstable``, plus
         ``reward_terms`` on steps and the action mode's diagnostics (``ik_residual``
-        in metres and ``ik_limit_active`` under ``ee_delta``).
+        in metres and ``ik_limit_active`` under ``ee_delta``). Under a randomisation
+        other than ``none``, ``randomization``: the values in force, at reset and on the
+        steps where an ``interval`` term drew.
     """
 
     metadata = {"render_modes": ["rgb_array", "human"], "render_fps": 25}
@@ -74,6 +80,9 @@ class UnifiedManipEnv(GoalEnv):
         self._terminations = self._terms.check_terminations(self.config.terminate_on, self.task.id)
         self._threshold = self.task.distance_threshold
         self._backend = setup.build_backend()
+        self._randomizer: Randomizer | None = build_randomizer(
+            self.config.randomization, self.task.entities, self._backend, self.task.id
+        )
 
         # Size the spaces from one reset of the backend with a throwaway generator.
         self._backend.reset(np.random.default_rng(0))
@@ -94,6 +103,9 @@ class UnifiedManipEnv(GoalEnv):
     # ------------------------------------------------------------------ Gymnasium API
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed, options=options)
+        drawn = None
+        if self._randomizer is not None:  # model fields first: the backend's reset places the state in them
+            drawn = self._randomizer.reset(self._backend, self.np_random, seeded=seed is not None)
         self._backend.reset(self.np_random)
         obs = self._read()
         obs["observation"] = self._stream.start(obs["observation"], self.np_random)
@@ -108,12 +120,15 @@ class UnifiedManipEnv(GoalEnv):
             "sim_unstable": False,
             **self._backend.extra_info(),
         }
+        if drawn is not None:
+            info["randomization"] = drawn
         if self.render_mode == "human":
             self.render()
         return obs, info
 
     def step(self, action):
         action = self._validate_action(action)
+        drawn = None if self._randomizer is None else self._randomizer.step(self._backend, self.np_random)
         diagnostics = self._backend.step(action)
         unstable = self._backend.unstable()
         obs = None if unstable else self._read()
@@ -148,6 +163,8 @@ class UnifiedManipEnv(GoalEnv):
         reward = float(sum(terms.values()))
         info["is_success"] = success
         info["reward_terms"] = reward_terms
+        if drawn is not None:
+            info["randomization"] = drawn
         terminated = bool(self.config.terminate_on_success and success > 0.5) or any(
             bool(t.fn(info)) for t in self._terminations
         )
@@ -187,6 +204,19 @@ class UnifiedManipEnv(GoalEnv):
             "achieved_goal": np.asarray(b.achieved_goal(), dtype=np.float32),
             "desired_goal": np.asarray(b.desired_goal(), dtype=np.float32),
         }
+
+    def randomization_state(self) -> dict[str, float]:
+        """The randomised values in force, by ``info["randomization"]`` key (``entity.field``,
+        with ``[element]`` for per-element draws and ``[k]`` for the channels of ``rgba`` and
+        the axes of ``camera_pose``; a ``shape`` as its index in the term's shapes); empty
+        under ``none``."""
+        return {} if self._randomizer is None else self._randomizer.state()
+
+    @property
+    def randomizer(self) -> Randomizer | None:
+        """The env's randomisation terms as they apply to its task (``terms``, and the
+        preset terms left out, ``skipped``), or None under ``none``."""
+        return self._randomizer
 
     @property
     def backend(self):
@@ -241,6 +271,11 @@ class UnifiedManipEnv(GoalEnv):
 
     # ------------------------------------------------------------------ pickling
     def __getstate__(self) -> dict[str, Any]:
+        if self._randomizer is not None and not self._backend.pickles_model:
+            raise TypeError(
+                f"{self.task.id} cannot be pickled under randomization: its backend rebuilds a nominal "
+                "model when unpickled; make a new env with the same arguments instead"
+            )
         state = self.__dict__.copy()
         state["task"] = self.task.id  # specs hold factories; look them up again
         return state

@@ -18,6 +18,7 @@ from unified_manip.envs.cameras import CameraConfig
 from unified_manip.envs.config import ACTION_MODES, EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.mujoco_version import check_mujoco
+from unified_manip.envs.randomization.entities import Entity
 from unified_manip.envs.termsets import TermSet
 from unified_manip.extras import EXTRAS, missing_modules, require
 
@@ -73,6 +74,9 @@ class TaskSpec:
         extra: The extra that installs the family's simulator (``"robosuite"``), or
             ``None`` when the base install has it. Without it, building the env raises
             :class:`unified_manip.extras.MissingExtra` naming the extra.
+        entities: The named parts of the task's model that randomisation terms address
+            (``object``, ``table``, ``robot``, ``light``, ``camera``), each an
+            :class:`~unified_manip.envs.randomization.Entity`; the family declares them once.
     """
 
     name: str
@@ -94,6 +98,7 @@ class TaskSpec:
     upstream_id: str | None = None
     make_upstream: Callable[[], object] | None = None
     cameras: Mapping[str, CameraConfig] = field(default_factory=dict)
+    entities: Mapping[str, Entity] = field(default_factory=dict)
     extra: str | None = None
 
     @property
@@ -133,6 +138,9 @@ class TaskSpec:
             raise TypeError(f"{self.name}: the cameras {bad} are not CameraConfig instances")
         if self.extra is not None and self.extra not in EXTRAS:
             raise ValueError(f"{self.name}: unknown extra {self.extra!r}; expected one of {', '.join(EXTRAS)}")
+        bad = [name for name, e in self.entities.items() if not isinstance(e, Entity)]
+        if bad:
+            raise TypeError(f"{self.name}: the entities {bad} are not Entity instances")
         if not isinstance(self.stability_steps, int) or self.stability_steps <= 0:
             raise ValueError(f"{self.name}: stability_steps must be a positive int, got {self.stability_steps!r}")
 

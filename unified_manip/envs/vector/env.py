@@ -22,6 +22,7 @@ from unified_manip.envs.cameras import ImageSensor, image_sensor, observation_bo
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions, squared_norms
 from unified_manip.envs.observations import build_stream, reattach
+from unified_manip.envs.randomization.randomizer import Randomizer, build_randomizer
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.termsets import ACTION_SQ
@@ -72,6 +73,12 @@ class NativeVectorEnv(VectorEnv):
         self._max_steps = max_episode_steps
         self._batched = batched
         self._streams = [build_stream(config, batched.backend(i), self._task_id) for i in range(n)]
+        # Each env's own randomisation terms on its own model, drawn from its own generator.
+        randomizers = [
+            build_randomizer(config.randomization, self.task.entities, batched.backend(i), self._task_id)
+            for i in range(n)
+        ]
+        self._randomizers: list[Randomizer] | None = None if randomizers[0] is None else randomizers  # type: ignore[assignment]
         self._exact = self._streams[0].exact
         # One camera per env (each env's model holds its own goal marker), drawn in this
         # thread: a GL context is current in one thread at a time.
@@ -110,13 +117,15 @@ class NativeVectorEnv(VectorEnv):
         seeds = env_seeds(seed, n)
         mask = reset_mask(options, n)
         extra: dict[str, Any] = {}
+        drawn: dict[int, dict[str, float]] = {}
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
                 self._rngs[i], _ = seeding.np_random(seeds[i])
-            extra = vinfo.gather(extra, self._batched.reset(int(i), self._rngs[i]), i, n)
+            extra = vinfo.gather(extra, self._reset_one(int(i), seeds[i] is not None, drawn), i, n)
         obs = self._fresh_obs(mask)
         quantities = self._inputs()
         info = vinfo.merge({}, vinfo.reset_info(self._success(obs), quantities, self._at_rest, extra), mask)
+        info = self._merge_drawn(info, drawn)
         for key, value in quantities.items():
             self._before[key][mask] = value[mask]
         self._elapsed[mask] = 0
@@ -139,10 +148,17 @@ class NativeVectorEnv(VectorEnv):
                 )
             resetting = np.zeros(n, dtype=bool)
         stepping = ~resetting
+        drawn: dict[int, dict[str, float]] = {}
+        if self._randomizers is not None:  # interval draws, before the physics (as the single env)
+            for i in np.flatnonzero(stepping):
+                values = self._randomizers[i].step(self._batched.backend(int(i)), self._rng(int(i)))
+                if values is not None:
+                    drawn[int(i)] = values
         diagnostics = self._batched.step(a, np.flatnonzero(stepping)) if stepping.any() else {}
         reset_extra: dict[str, np.ndarray] = {}
+        reset_drawn: dict[int, dict[str, float]] = {}
         for i in np.flatnonzero(resetting):
-            reset_extra = vinfo.gather(reset_extra, self._batched.reset(int(i), self._rngs[i]), i, n)
+            reset_extra = vinfo.gather(reset_extra, self._reset_one(int(i), False, reset_drawn), i, n)
         obs = self._raw(self._batched.observations())
         # MuJoCo flags (and resets) a diverged state only at the start of its next substep,
         # so a non-finite observation is a divergence too (as in the single env).
@@ -185,7 +201,7 @@ class NativeVectorEnv(VectorEnv):
             info = vinfo.merge(info, {"final_info": step_info}, done)
             info["final_obs"], info["_final_obs"] = vinfo.objects(final, n), done.copy()
             for i in np.flatnonzero(done):
-                reset_extra = vinfo.gather(reset_extra, self._batched.reset(int(i), self._rngs[i]), i, n)
+                reset_extra = vinfo.gather(reset_extra, self._reset_one(int(i), False, reset_drawn), i, n)
             fresh = self._raw(self._batched.observations())
             self._sense(fresh, np.flatnonzero(done), ())
             for key, value in obs.items():
@@ -197,9 +213,11 @@ class NativeVectorEnv(VectorEnv):
             resetting = done
             done = np.zeros(n, dtype=bool)
         info = vinfo.merge(info, step_info, ~resetting)
+        info = self._merge_drawn(info, {i: v for i, v in drawn.items() if not resetting[i]})
         if resetting.any():
             reset_info = vinfo.reset_info(self._success(obs), quantities, self._at_rest, reset_extra)
             info = vinfo.merge(info, reset_info, resetting)
+            info = self._merge_drawn(info, reset_drawn)
         for key, value in obs.items():
             self._last_obs[key] = value.copy()
         self._autoreset = done
@@ -246,6 +264,21 @@ class NativeVectorEnv(VectorEnv):
         return info_arrays(info, shape, keys)
 
     # ------------------------------------------------------------------ helpers
+    def _reset_one(self, i: int, seeded: bool, drawn: dict[int, dict[str, float]]) -> dict[str, Any]:
+        """Reset env ``i`` from its generator, its randomisation first (as the single env);
+        its drawn values go to ``drawn[i]``; returns its extra reset info."""
+        if self._randomizers is not None:
+            drawn[i] = self._randomizers[i].reset(self._batched.backend(i), self._rng(i), seeded)
+        return self._batched.reset(i, self._rng(i))
+
+    def _merge_drawn(self, info: dict[str, Any], drawn: Mapping[int, Mapping[str, float]]) -> dict[str, Any]:
+        return vinfo.merge_rows(info, "randomization", drawn, self.num_envs)
+
+    def randomization_state(self, index: int) -> dict[str, float]:
+        """Env ``index``'s randomised values in force (the single env's
+        ``randomization_state()``); empty under ``none``."""
+        return {} if self._randomizers is None else self._randomizers[index].state()
+
     def _validate(self, actions) -> np.ndarray:
         return checked_actions(actions, self._action_shape, self._action_rule)
 

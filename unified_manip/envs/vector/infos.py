@@ -83,3 +83,15 @@ def gather(out: dict[str, np.ndarray], values: Mapping[str, Any], i: int, num_en
             out[key] = np.zeros(num_envs, dtype=type(value) if isinstance(value, (bool, int, float)) else object)
         out[key][i] = value
     return out
+
+
+def merge_rows(out: dict[str, Any], key: str, rows: Mapping[int, Mapping[str, float]], num_envs: int) -> dict[str, Any]:
+    """Add ``out[key]``, a nested group of floats, from the dicts ``rows[i]`` of some envs
+    (all with the same keys), laid out as ``SyncVectorEnv`` lays out a nested info dict."""
+    if not rows:
+        return out
+    mask = np.zeros(num_envs, dtype=bool)
+    mask[list(rows)] = True
+    keys = next(iter(rows.values()))
+    values = {k: np.array([rows[i][k] if i in rows else 0.0 for i in range(num_envs)]) for k in keys}
+    return merge(out, {key: values}, mask)

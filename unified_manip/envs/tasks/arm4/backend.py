@@ -144,6 +144,8 @@ class Arm4Backend(Backend):
             self._obj_geom = m.geom("object_geom").id
             self._finger_geoms = (m.geom("finger_l_geom").id, m.geom("finger_r_geom").id)
         self._goal = np.zeros(3)
+        #: The height the cube's centre is placed at on reset (a resized cube rests on the table).
+        self.object_rest_z = CUBE_REST_Z
         self._unstable = False
         self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
 
@@ -156,7 +158,7 @@ class Arm4Backend(Backend):
         xy = None
         if self.scene != "reach":
             xy = sample_object_xy(np_random)
-            d.qpos[self._obj_q : self._obj_q + 3] = (xy[0], xy[1], CUBE_REST_Z)
+            d.qpos[self._obj_q : self._obj_q + 3] = (xy[0], xy[1], self.object_rest_z)
             d.qpos[self._obj_q + 3 : self._obj_q + 7] = (1.0, 0.0, 0.0, 0.0)
         self._goal = sample_goal(self.scene, np_random, xy, self.min_goal_distance, self.table_goal_fraction)
         m.site_pos[self._goal_site] = self._goal

@@ -15,6 +15,7 @@ from unified_manip.envs.tasks.arm4.docs import (
     PUSH_V1_DOC,
     REACH_DOC,
 )
+from unified_manip.envs.tasks.arm4.entities import ENTITIES
 from unified_manip.envs.tasks.arm4.policies import pick_and_place_policy, push_policy, push_policy_25hz, reach_policy
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
@@ -36,6 +37,7 @@ V0: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=0.9,
         render_fps=50,
         cameras=CAMERAS,
+        entities=ENTITIES[scene],
     )
     for name, scene, term_set, steps, doc, policy in (
         ("Arm4Reach", "reach", "reach", 50, REACH_DOC, reach_policy),

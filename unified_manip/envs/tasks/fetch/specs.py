@@ -7,6 +7,7 @@ from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.fetch.cameras import CAMERAS
 from unified_manip.envs.tasks.fetch.controllers import CONTROLLERS
 from unified_manip.envs.tasks.fetch.docs import PICK_AND_PLACE_DOC, PUSH_DOC, REACH_DOC, SLIDE_DOC
+from unified_manip.envs.tasks.fetch.entities import ENTITIES
 from unified_manip.envs.tasks.fetch.policies import pick_and_place_policy, push_policy, reach_policy, slide_policy
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
@@ -34,6 +35,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=min_success,
         render_fps=25,
         cameras=CAMERAS,
+        entities=ENTITIES[name],
         stability_steps=STABILITY_STEPS,
         upstream_id=f"Fetch{name}-v4",
         # gymnasium-robotics registers its IDs when imported: "module:ID" imports it.

@@ -35,6 +35,9 @@ GRASP_CHECK_RADIUS = 0.08
 class RobosuiteBackend(Backend):
     """One robosuite task under one action mode (see the module docstring)."""
 
+    #: Unpickling rebuilds robosuite's env and replays the episode on a nominal model.
+    pickles_model = False
+
     def __init__(self, config: EnvConfig, controller: ControllerConfig, task: str) -> None:
         if config.render_mode == "human":
             raise ValueError("robosuite tasks render with render_mode None or 'rgb_array', not 'human'")

@@ -20,6 +20,7 @@ from unified_manip.envs.tasks.robosuite_tasks.docs import (
     TOOL_HANG_DOC,
     WIPE_DOC,
 )
+from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
 from unified_manip.envs.tasks.robosuite_tasks.more_policies import bread_policy, cereal_policy, milk_policy, nut_policy
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
@@ -48,6 +49,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_min_success=min_success,
         render_fps=20,
         cameras=CAMERAS,
+        entities=ENTITIES[name],
         scripted_episodes=SCRIPTED_EPISODES,
         stability_steps=STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",

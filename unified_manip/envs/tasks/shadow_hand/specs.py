@@ -8,6 +8,7 @@ from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.shadow_hand.cameras import CAMERAS
 from unified_manip.envs.tasks.shadow_hand.controllers import CONTROLLERS
 from unified_manip.envs.tasks.shadow_hand.docs import BLOCK_DOC, REACH_DOC, in_hand_doc
+from unified_manip.envs.tasks.shadow_hand.entities import ENTITIES
 from unified_manip.envs.tasks.shadow_hand.goals import PEN_POSITION_THRESHOLD, PoseDistance, block_goal_distance
 from unified_manip.envs.tasks.shadow_hand.terms import IN_HAND, ON_PALM, PALM_TO_OBJECT
 
@@ -32,6 +33,7 @@ def _spec(name, terms, upstream, upstream_id, goal_dim, steps, distance, thresho
         goal_distance=distance,
         render_fps=25,
         cameras=CAMERAS,
+        entities=ENTITIES,
         stability_steps=STABILITY_STEPS,
         upstream_id=upstream_id,
         make_upstream=lazy("gymnasium:make", f"gymnasium_robotics:{upstream_id}", disable_env_checker=True),
