@@ -436,6 +436,7 @@ def test_the_cross_family_study_grid_names_one_dataset_per_task_and_mode():
     assert "ROOT=${ROOT:-data}" in (study / "make_datasets.sh").read_text()
 
 
+@pytest.mark.robosuite  # loading the grid builds a Lift backend per observation design (check_design)
 def test_the_action_space_pilot_grid_loads_with_the_runs_it_names():
     """Issue 40's budget pilot (once ``baselines/grids/action_spaces_families_pilot.yaml``):
     seed 0 of ee_delta and joint_delta, 150k steps on Fetch and 100k on Lift, with the cells

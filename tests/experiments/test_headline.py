@@ -78,6 +78,7 @@ def test_a_headline_needs_one_algorithm_and_reward(tmp_path):
         headline_table(_experiment(tmp_path, rows))
 
 
+@pytest.mark.robosuite  # loading the grid builds a Lift backend per observation design (check_design)
 def test_the_readme_holds_the_families_headline_of_the_committed_results(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # as in a clean clone: no demonstration datasets under data/
     assert readme_block(ROOT / "results" / "action_spaces_families") in (ROOT / "README.md").read_text()

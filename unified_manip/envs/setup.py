@@ -40,7 +40,14 @@ class EnvSetup:
     controller: ControllerConfig
 
     def build_backend(self) -> Backend:
-        """A new backend of the task, built from :attr:`config` and :attr:`controller`."""
+        """A new backend of the task, built from :attr:`config` and :attr:`controller`.
+
+        Raises:
+            unified_manip.extras.MissingExtra: The family's extra is not installed.
+            unified_manip.envs.mujoco_version.UnsupportedMuJoCo: The installed MuJoCo is
+                outside the supported range.
+        """
+        self.task.require_installed()  # before the family's simulator is imported
         return self.task.make_backend(self.config, self.controller)
 
 
@@ -55,12 +62,11 @@ def env_setup(task_id: str, **kwargs: Any) -> EnvSetup:
         ValueError: An unknown ID, action mode, reward type, controller option or camera,
             or a mode the task does not support (each with the valid choices).
         TypeError: A field of the wrong type.
-        unified_manip.extras.MissingExtra: The family's extra is not installed.
-        unified_manip.envs.mujoco_version.UnsupportedMuJoCo: The installed MuJoCo is
-            outside the supported range.
+
+    Only the arguments are checked here (a grid validates its cells so without the
+    simulators); :meth:`EnvSetup.build_backend` checks that the family is installed.
     """
     task = get_task(task_id)
-    task.require_installed()
     fields = {k: kwargs.pop(k) for k in CONFIG_FIELDS if k in kwargs}
     config = EnvConfig(**fields, options=kwargs)
     config.require_supported(task.id, task.action_modes)

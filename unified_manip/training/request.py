@@ -68,11 +68,9 @@ class TrainRequest:
 
     def __post_init__(self) -> None:
         try:  # the env's own checks and words (unknown ID, mode or reward type, unsupported mode)
-            task = get_task(self.env)
-            task.check_choices(self.action_mode, self.reward_type)
+            get_task(self.env).check_choices(self.action_mode, self.reward_type)
         except ValueError as err:
             raise TrainError(str(err)) from None
-        task.require_installed()  # before the run directory is made
         if self.algo not in ALGOS:
             raise TrainError(f"unknown algorithm {self.algo!r}; expected one of {', '.join(ALGOS)}")
         if self.device is not None and self.device not in DEVICES:

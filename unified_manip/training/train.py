@@ -81,6 +81,7 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
+    get_task(req.env).require_installed()  # the family's extra and MuJoCo, before any file is written
     if req.algo == "bc":  # behaviour cloning of a dataset, in gradient steps (unified_manip.training.bc)
         from unified_manip.training.bc import train_bc
 
