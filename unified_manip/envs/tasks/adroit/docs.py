@@ -19,10 +19,11 @@ RELOCATE_DOC = f"""AdroitRelocate: pick up a ball from the table with the Adroit
 (a Shadow hand on a 6-joint arm: 3 slides and 3 rotations) and carry it to a target in
 the air (gymnasium-robotics AdroitHandRelocate-v1).
 
-The ball is placed at x in [-0.15, 0.15], y in [-0.15, 0.3] m on the table; the target
-at x, y in [-0.2, 0.2], z in [0.15, 0.35] m (upstream's reset). Goal (3,): achieved =
-the ball's centre, desired = the target, m. Success (upstream's "success"): distance
-< 0.1 m; sparse reward = success - 1 (upstream's sparse reward is 10 / -0.1). 200 steps
+Starting state: the ball at x in [-0.15, 0.15], y in [-0.15, 0.3] m on the table; the
+target at x, y in [-0.2, 0.2], z in [0.15, 0.35] m (upstream's reset).
+
+Success (upstream's "success"): goal (3,), achieved = the ball's centre, desired = the
+target, m; distance < 0.1 m. Sparse reward = success - 1 (upstream's sparse reward is 10 / -0.1). 200 steps
 of 10 ms.
 
 Observation (39,): upstream's vector without its two goal-relative parts (palm -
@@ -36,10 +37,12 @@ The simulator state (``get_state``) does not hold the target or the ball's start
 keeps them in the model (``site_pos``, ``body_pos``), which pickling keeps.
 
 {_MODES}
-Dense reward: shaping "grasp": reach = 1 - tanh(5 |palm - ball|), place = 5 lifted
+
+Rewards: term set "grasp": reach = 1 - tanh(5 |palm - ball|), place = 5 lifted
 (1 - tanh(5 d)) with lifted 1 while the ball is off the table (centre above z = 0.04 m,
 upstream's dense reward's check), success bonus 10; dense_penalized adds -0.01 sum(a^2)
 and -10 on the step the ball drops back.
+
 Version history: v0 initial (over AdroitHandRelocate-v1, gymnasium-robotics 1.4.2).
 """
 
@@ -47,9 +50,11 @@ DOOR_DOC = f"""AdroitDoor: undo the latch and swing the door open with the Adroi
 (a Shadow hand on a 4-joint arm: 1 slide and 3 rotations; gymnasium-robotics
 AdroitHandDoor-v1).
 
-The door's frame is placed at x in [-0.3, -0.2], y in [0.25, 0.35], z in [0.252, 0.35] m
-(upstream's reset). Goal (1,): achieved = the door hinge's angle, desired = fully open,
-1.57 rad (the hinge's upper limit; the same every episode). Success: |angle - 1.57| <
+Starting state: the door's frame at x in [-0.3, -0.2], y in [0.25, 0.35], z in
+[0.252, 0.35] m (upstream's reset).
+
+Success: goal (1,), achieved = the door hinge's angle, desired = fully open, 1.57 rad
+(the hinge's upper limit; the same every episode); |angle - 1.57| <
 0.22 rad, i.e. angle > 1.35 rad while the hinge is within its range [0, 1.57]:
 upstream's "success" (angle >= 1.35). Sparse reward = success - 1 (upstream's sparse
 reward is 10 / -0.1). 200 steps of 10 ms.
@@ -67,8 +72,10 @@ The simulator state (``get_state``) does not hold the door's placement: upstream
 it in the model (``body_pos``), which pickling keeps.
 
 {_MODES}
-Dense reward: shaping "push": reach = 1 - tanh(5 |palm - handle|), place = 5 (1 - tanh(5
+
+Rewards: term set "push": reach = 1 - tanh(5 |palm - handle|), place = 5 (1 - tanh(5
 d)) with d the hinge's distance from open, rad, success bonus 10; no grasp check (as
 robosuite's Door), so dense_penalized adds only -0.01 sum(a^2).
+
 Version history: v0 initial (over AdroitHandDoor-v1, gymnasium-robotics 1.4.2).
 """

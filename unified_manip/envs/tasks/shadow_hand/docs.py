@@ -99,7 +99,7 @@ def in_hand_doc(obj: str, distance) -> str:
     if rotate:
         goal = (
             "The goal position is the object's own position when the goal is drawn, and it is\n"
-            "ignored (upstream's target_position='ignore'); the goal rotation is uniformly random.\n"
+            "ignored (upstream's target_position='ignore'); the goal rotation is uniformly random.\n\n"
             f"Success (upstream's): rotation error < {distance.rotation_threshold:g} rad.{z}\n"
             f"Goal distance = {scales}, threshold {distance.threshold:g}, so success is\n"
             "upstream's criterion."
@@ -108,8 +108,9 @@ def in_hand_doc(obj: str, distance) -> str:
         position = "position error" if distance.position_scale == 1 else f"{distance.position_scale:g} x position error"
         goal = (
             "The goal position is the object's position plus an offset in x [-0.04, 0.04],\n"
-            "y [-0.06, 0.02], z [0, 0.06] m; the goal rotation is uniformly random. Success\n"
-            f"(upstream's): position error < {distance.position_threshold:g} m and rotation error <\n"
+            "y [-0.06, 0.02], z [0, 0.06] m; the goal rotation is uniformly random.\n\n"
+            "Success (upstream's):"
+            f" position error < {distance.position_threshold:g} m and rotation error <\n"
             f"{distance.rotation_threshold:g} rad.{z}\n"
             f"Goal distance = max({position}, {scales}): each error as a fraction of\n"
             f"its threshold, times {distance.threshold:g}. Threshold {distance.threshold:g}, so success is upstream's\n"
@@ -118,8 +119,9 @@ def in_hand_doc(obj: str, distance) -> str:
     return f"""{name}: rotate {what} held on the Shadow Hand's palm to a goal
 {"orientation" if rotate else "pose"} (gymnasium-robotics {name}-v1).
 
-The {obj} starts on the palm with {start} and a 5 mm position jitter.
+Starting state: the {obj} on the palm with {start} and a 5 mm position jitter.
 {goal}
+
 Sparse reward = success - 1 = upstream's sparse reward. 100 steps of 40 ms.
 
 Observation (61,), upstream's vector exactly:
@@ -130,11 +132,13 @@ Observation (61,), upstream's vector exactly:
 Goal (7,): achieved = {obj} pose, desired = goal pose (position m, unit quaternion).
 
 {_MODES}
-Dense reward: term set "in_hand": hold = 1 - tanh(5 |palm - {obj}|) keeps the {obj}
+
+Rewards: term set "in_hand": hold = 1 - tanh(5 |palm - {obj}|) keeps the {obj}
 near the palm, pose = 5 on_palm (1 - tanh(5 d)) with on_palm 1 while the {obj} is on the
 hand (centre above z = 0.04 m, upstream's reset check), success bonus 10;
 dense_penalized adds -0.01 sum(a^2) and a drop penalty (-10) on the step the {obj}
 falls off. (Upstream's dense reward, -(10 d_pos + d_rot), is not offered: a reward term
 reads the goal only through the one goal distance.)
+
 Version history: v0 initial (over {name}-v1, gymnasium-robotics 1.4.2).
 """
