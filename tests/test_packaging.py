@@ -175,7 +175,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
         "        env.close()\n"
         "print(sorted({spec.family for spec in unified_manip.TASKS.values() if spec.installed}))"
     )
-    assert _python(code, cwd=work, python=python).splitlines() == ["2", "[]", "['arm4', 'fetch', 'shadow_hand']"]
+    assert _python(code, cwd=work, python=python).splitlines() == ["2", "[]", "['adroit', 'arm4', 'fetch', 'shadow_hand']"]
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     train = subprocess.run(
         [
