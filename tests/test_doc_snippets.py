@@ -34,6 +34,8 @@ from pathlib import Path
 
 import pytest
 
+import unified_manip
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted(p for p in (ROOT / "docs").rglob("*.md") if "_gen" not in p.parts)]
 
@@ -194,7 +196,30 @@ def _parse(argv: list[str]):
     return build_parser().parse_args(argv)
 
 
-@pytest.mark.parametrize("block", [b for b in SHELL if commands(b.code)], ids=lambda b: b.id)
+def _needs_robosuite(block: Block) -> bool:
+    """Whether a command of ``block`` loads a grid with a robosuite task (loading builds
+    the task's backend, so it needs the robosuite extra)."""
+    import yaml
+
+    for grid in re.findall(r"baselines/\S+\.yaml", block.code):
+        path = ROOT / grid
+        if path.is_file() and any(
+            unified_manip.TASKS[t].extra
+            for t in (yaml.safe_load(path.read_text()) or {}).get("tasks", ())
+            if t in unified_manip.TASKS
+        ):
+            return True
+    return False
+
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        pytest.param(b, marks=[pytest.mark.robosuite] if _needs_robosuite(b) else [], id=b.id)
+        for b in SHELL
+        if commands(b.code)
+    ],
+)
 def test_every_command_parses_and_its_grids_load(block):
     from unified_manip.experiments.grid import load_grid
 

@@ -20,8 +20,13 @@ ROOT = Path(__file__).resolve().parents[1]
 HEAVY = ("mujoco", "robosuite", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
 
 
+def _no_checkout() -> dict[str, str]:
+    """This environment without PYTHONPATH: a process that must not see the checkout."""
+    return {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+
+
 def _python(code: str, cwd: Path | None = None, python: str = sys.executable) -> str:
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env = _no_checkout()
     proc = subprocess.run([python, "-c", code], capture_output=True, text=True, cwd=cwd, env=env, timeout=300)
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
@@ -102,6 +107,7 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel,
         check=True,
         capture_output=True,
         timeout=300,
+        env=_no_checkout(),
     )
 
     where = _python(
@@ -111,7 +117,7 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel,
         python=python,
     ).splitlines()
     assert all(line.startswith(site) for line in where), where
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env = _no_checkout()
     proc = subprocess.run(
         [
             str(venv / "bin" / "unified-manip"),
@@ -160,6 +166,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
         capture_output=True,
         text=True,
         timeout=900,
+        env=_no_checkout(),  # a checkout on PYTHONPATH with build metadata reads as installed to pip
     )
     assert proc.returncode == 0, proc.stderr
     code = (
@@ -175,8 +182,12 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
         "        env.close()\n"
         "print(sorted({spec.family for spec in unified_manip.TASKS.values() if spec.installed}))"
     )
-    assert _python(code, cwd=work, python=python).splitlines() == ["2", "[]", "['adroit', 'arm4', 'fetch', 'shadow_hand']"]
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    assert _python(code, cwd=work, python=python).splitlines() == [
+        "2",
+        "[]",
+        "['adroit', 'arm4', 'fetch', 'shadow_hand']",
+    ]
+    env = _no_checkout()
     train = subprocess.run(
         [
             str(venv / "bin" / "unified-manip"),
@@ -210,7 +221,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     assert (demo.returncode, demo.stderr) == (
         2,
         "unified-manip demo: error: UnifiedManip/Lift-v0 needs the robosuite extra: "
-        'pip install "unified_manip[robosuite]" (missing: robosuite)\n',
+        'pip install "unified_manip[robosuite]" (missing: robosuite, h5py)\n',
     )
     listed = subprocess.run(
         [str(venv / "bin" / "unified-manip"), "list"], capture_output=True, text=True, cwd=work, env=env, timeout=300

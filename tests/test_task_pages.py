@@ -26,6 +26,9 @@ sys.path.insert(0, str(ROOT / "docs" / "_gen"))
 import taskpages  # noqa: E402
 import tasksections  # noqa: E402
 
+#: The pages document every ID, so they need every family installed (the robosuite extra too).
+pytestmark = pytest.mark.robosuite
+
 IMAGES = ROOT / "docs" / "images" / "tasks"
 GIF_LIMIT = 300_000  # bytes per animation
 TOTAL_LIMIT = 8_000_000  # bytes for all of them

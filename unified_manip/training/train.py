@@ -81,7 +81,6 @@ def train(
     run directory another process owns and when no checkpoint of the run loads, and
     :class:`KeyboardInterrupt` after checkpointing when interrupted.
     """
-    get_task(req.env).require_installed()  # the family's extra and MuJoCo, before any file is written
     if req.algo == "bc":  # behaviour cloning of a dataset, in gradient steps (unified_manip.training.bc)
         from unified_manip.training.bc import train_bc
 
@@ -107,6 +106,7 @@ def train(
         speedups.check(get_algo(req.algo).cls().__name__, run.compile_loss)
     except ValueError as err:
         raise TrainError(str(err)) from None
+    get_task(req.env).require_installed()  # the family's extra and MuJoCo, before any file is written
     run_dir = req.directory
     try:
         # A resumed run keeps the speed settings it started with (rundir.KEPT_ON_RESUME).
