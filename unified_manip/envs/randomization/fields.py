@@ -11,6 +11,8 @@ height) is done once per draw by :class:`~.geometry.Geometry`.
 
 from __future__ import annotations
 
+import abc
+
 import mujoco
 import numpy as np
 
@@ -41,7 +43,7 @@ def _joint_dofs(model, joints: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.array(dofs, dtype=np.int64), np.array(rows, dtype=np.int64)
 
 
-class FieldWriter:
+class FieldWriter(abc.ABC):
     """One term on one model: ``write(model, values, geometry)`` from its nominal values.
 
     Attributes:
@@ -76,8 +78,9 @@ class FieldWriter:
         """Rows of one draw: 1 when the term is shared, else one per element."""
         return 1 if self.term.shared else len(self.elements)
 
+    @abc.abstractmethod
     def _capture(self, model) -> np.ndarray:
-        raise NotImplementedError
+        """The nominal values of the entries this writer changes, ``(elements, width)``."""
 
     def _check_add(self, nominal: np.ndarray, task_id: str) -> None:
         """``add`` must keep the field valid from its smallest nominal value."""
@@ -96,8 +99,10 @@ class FieldWriter:
         """The new values of every element, ``(elements, width)``, from a draw."""
         return combine(self.term.operation, self.nominal, values)
 
+    @abc.abstractmethod
     def write(self, model, values: np.ndarray, geometry: Geometry) -> None:
-        raise NotImplementedError
+        """Write ``values`` (from :meth:`values`) into ``model``; note in ``geometry`` what
+        the change leaves to derive."""
 
 
 def _has(entity: Resolved) -> str:

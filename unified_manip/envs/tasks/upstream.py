@@ -21,6 +21,7 @@ need care:
 
 from __future__ import annotations
 
+import abc
 import importlib
 import types
 from typing import Any, Mapping
@@ -96,10 +97,10 @@ class UpstreamBackend(Backend):
         return self._up.data
 
     # -------------------------------------------------------------- what a family adds
+    @abc.abstractmethod
     def apply(self, action: np.ndarray) -> dict[str, Any]:
         """Apply ``action`` and advance upstream's simulation one env step; return
         diagnostics for ``info``."""
-        raise NotImplementedError
 
     def after_reset(self) -> None:
         """Called after upstream's reset, before the first observation is read."""
