@@ -97,7 +97,7 @@ def extra_marks(task_id: str) -> list:
 
 
 def overlay_venv(venv: Path, *requirements: str) -> str:
-    """A fresh venv at ``venv`` that sees this venv's packages (through a .pth line) under
+    """A fresh venv at ``venv`` that sees this venv's packages (through a .pth file) under
     its own ``requirements`` (installed there without their dependencies, e.g.
     ``"minari==0.5.4"``), so a test can run one package's other version beside everything
     else as here; its Python. Its processes import the checkout with ``PYTHONPATH=ROOT``."""
@@ -112,7 +112,10 @@ def overlay_venv(venv: Path, *requirements: str) -> str:
         check=True,
         timeout=120,
     ).stdout.strip()
-    Path(site, "_parent_deps.pth").write_text("\n".join(p for p in sys.path if p.endswith("site-packages")) + "\n")
+    # addsitedir, not a bare path: the parent's own .pth files (editable installs such as
+    # the example family) are read too.
+    parents = [p for p in sys.path if p.endswith("site-packages")]
+    Path(site, "_parent_deps.pth").write_text("".join(f"import site; site.addsitedir({p!r})\n" for p in parents))
     if requirements:
         pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "--python", python]
         subprocess.run([*pip, "install", "--no-deps", "--no-compile", *requirements], check=True, timeout=600)

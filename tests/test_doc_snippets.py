@@ -45,7 +45,7 @@ _MARKER = re.compile(r"^[ \t]*<!-- snippet: (?P<kind>skip|slow|excerpt)(?: (?P<a
 #: Substitutions that shrink a block's budget for the slow tests, applied in order to its
 #: text: (pattern, replacement, why). They change numbers only, never which options run.
 BUDGETS: tuple[tuple[str, str, str], ...] = (
-    (r"model\.learn\([\d_]+\)", "model.learn(300)", "a Python block trains 300 steps, not its 10,000"),
+    (r"\.learn\([\d_]+\)", ".learn(300)", "a Python block trains 300 steps, not its 10,000"),
     (r"(unified-manip train\b[^\n]*?--steps) \d+", r"\1 300", "train runs 300 steps"),
     (r"--episodes \d+", "--episodes 2", "collect and eval play 2 episodes"),
     (r"(unified-manip speed\b[^\n]*?)--steps \d+", r"\1--steps 50", "speed times 50 steps"),

@@ -1,9 +1,10 @@
 """Which observation groups depend on the goal, measured on every ID, against the groups
 marked ``goal_dependent`` (the ones HER relabelling moves; :mod:`unified_manip.training.her`).
 
-Two envs of one ID reset with different seeds hold different goals. Both are put at one
-physics state and stepped alike; every group that then differs between them depends on
-the goal. A marked group must differ by exactly the change of ``desired_goal`` (the
+Two envs of one ID reset with different seeds hold different goals (where a task's goal is
+fixed, the second env's ``desired_goal`` is moved by hand: the goal hindsight relabelling
+would give it). Both are put at one physics state and stepped alike; every group that then
+differs between them depends on the goal. A marked group must differ by exactly the change of ``desired_goal`` (the
 relabelling shifts it by that change), every other group not at all.
 """
 
@@ -18,7 +19,17 @@ import unified_manip
 #: The goal-dependent groups of each family's default observation (the arm's ends with
 #: goal - cube, or goal - grip site on Reach; Fetch, the Shadow Hand and robosuite keep
 #: upstream's vectors, which hold no goal). A new family is listed here once measured.
-DEFAULT_GOAL_DEPENDENT = {"arm4": {"goal_rel"}, "fetch": set(), "shadow_hand": set(), "robosuite": set()}
+DEFAULT_GOAL_DEPENDENT = {
+    "arm4": {"goal_rel"},
+    "fetch": set(),
+    "shadow_hand": set(),
+    "robosuite": set(),
+    "adroit": set(),
+    "valve": {"goal_rel"},
+}
+
+#: How far a fixed goal is moved, entry for entry.
+MOVE = 0.1
 
 #: Action modes whose controller keeps no memory of the episode, so two envs put at one
 #: physics state step alike (the target-holding modes would carry each env's reset along).
@@ -38,6 +49,9 @@ def _at_one_state_with_two_goals(task_id: str):
     for seed, env in enumerate(envs):
         env.reset(seed=seed)
     first, second = (env.unwrapped.backend for env in envs)
+    if np.array_equal(first.desired_goal(), second.desired_goal()):  # a fixed goal
+        fixed = second.desired_goal
+        second.desired_goal = lambda: np.asarray(fixed()) + MOVE
     # The scene's fixed placements live in the model (robosuite places Door's frame by
     # moving its body): the second env takes the first's.
     second.model.body_pos[:] = first.model.body_pos

@@ -20,13 +20,15 @@ HER_IDS = list(unified_manip.TASKS)
 def test_sac_her_smoke_run(task_id):
     torch.set_num_threads(1)
     spec = unified_manip.TASKS[task_id]
-    env = gym.make(task_id, action_mode=smoke_mode(task_id), reward_type="sparse")
+    # Episodes of at most 200 steps, so that 600 steps hold 3 or more of every ID's.
+    episode = min(spec.max_episode_steps, 200)
+    env = gym.make(task_id, action_mode=smoke_mode(task_id), reward_type="sparse", max_episode_steps=episode)
     model = SAC(
         "MultiInputPolicy",
         env,
         replay_buffer_class=HerReplayBuffer,
         replay_buffer_kwargs=dict(n_sampled_goal=4, goal_selection_strategy="future"),
-        learning_starts=200,
+        learning_starts=episode,
         batch_size=64,
         policy_kwargs=dict(net_arch=[32, 32]),
         seed=0,

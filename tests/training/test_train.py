@@ -58,7 +58,11 @@ def cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 
 
 def train_args(task_id: str, algo: str, steps: int, run_dir: Path, extra: list[str] = ()) -> list[str]:
-    sets = [a for s in SMOKE[algo] + RUN_SETTINGS + list(extra) for a in ("--set", s)]
+    smoke = SMOKE[algo]
+    if algo.endswith("_her"):  # HER samples goals from finished episodes only: the first must end
+        episode = unified_manip.TASKS[task_id].max_episode_steps
+        smoke = [f"learning_starts={max(100, episode)}" if s == "learning_starts=100" else s for s in smoke]
+    sets = [a for s in smoke + RUN_SETTINGS + list(extra) for a in ("--set", s)]
     return [
         "train",
         "--env",

@@ -78,6 +78,11 @@ class ObservationGroup:
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"unknown observation group kind {self.kind!r}; expected one of {_choices(KINDS)}")
+        if self.read is goal_rel and not self.goal_dependent:
+            raise ValueError(
+                "a group that reads goal_rel (desired_goal - achieved_goal) depends on the goal, "
+                "and hindsight relabelling must move it: build it with goal_rel_group(units)"
+            )
 
 
 def goal_rel(backend: Any) -> np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 
 #: Every group, in the order the ``"full"`` preset concatenates them. The shared names
 #: (``joint_pos``, ``ee_pos``, ``object_pos``, ``object_rel``, ``goal_rel``, ...) mean what
@@ -30,7 +30,7 @@ GROUPS: dict[str, G] = {
     ),
     # desired - achieved, as on every family (hindsight relabelling recomputes it so),
     # not wrapped: from -2 pi to 2 pi.
-    "goal_rel": G("rad (target - valve angle)", goal_rel, "relative"),
+    "goal_rel": goal_rel_group("rad (target - valve angle)"),
 }
 
 #: The default observation vector, group by group.

@@ -23,7 +23,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup as G
-from unified_manip.envs.observations import goal_rel
+from unified_manip.envs.observations import goal_rel_group
 from unified_manip.envs.tasks.gripper_terms import GRASPED, GRIP_TO_OBJECT
 
 #: Relocate: the ball is off the table above this height, m (upstream's dense reward's check).
@@ -102,7 +102,7 @@ RELOCATE = AdroitTask(
         "ee_pos": G("m (palm site S_grasp, world)", _palm),
         "object_pos": G("m (ball centre, world)", _ball),
         "object_vel": G("m/s, rad/s (ball's 6 joints)", lambda b: b.data.qvel[30:36], "velocity"),
-        "goal_rel": G("m (target - ball)", goal_rel, "relative"),
+        "goal_rel": goal_rel_group("m (target - ball)"),
     },
     default=("joint_pos", "object_rel", "ee_pos", "object_pos"),
 )
@@ -143,7 +143,7 @@ DOOR = AdroitTask(
         "door_open": G(
             "+1 beyond 1 rad, else -1 (upstream's)", lambda b: np.where(_hinge(b) > DOOR_OPEN_FLAG, 1.0, -1.0)
         ),
-        "goal_rel": G("rad (1.57 - hinge angle)", goal_rel, "relative"),
+        "goal_rel": goal_rel_group("rad (1.57 - hinge angle)"),
     },
     default=("joint_pos", "latch", "hinge", "ee_pos", "handle_pos", "object_rel", "door_open"),
 )
