@@ -4,8 +4,9 @@
   Where a ```` ```text ```` block follows one, it is the block's output and must equal
   what the script prints (the scripts seed what they print).
 * **Shell blocks** (```` ```bash ````) run in the ``slow`` tests, from a scratch directory
-  that holds the repository's ``baselines/``, a copy of ``datasets/`` and a copy of the committed
-  results' tables, so nothing is written into the checkout. Their budgets are shrunk by the
+  that holds the repository's ``baselines/``, a copy of ``datasets/``, a copy of the committed
+  results' tables and an empty ``benchmarks/out/``, so nothing is written into the checkout
+  (``python -m benchmarks.<name>`` finds the tools through ``PYTHONPATH``). Their budgets are shrunk by the
   substitutions in :data:`BUDGETS` (steps, episodes, repeats), which keep every option the
   reader sees. Every ``unified-manip`` command of every shell block, run or not, is also
   parsed by the real parser in the fast tests, and every grid file it names loads.
@@ -48,7 +49,11 @@ BUDGETS: tuple[tuple[str, str, str], ...] = (
     (r"\.learn\([\d_]+\)", ".learn(300)", "a Python block trains 300 steps, not its 10,000"),
     (r"(unified-manip train\b[^\n]*?--steps) \d+", r"\1 300", "train runs 300 steps"),
     (r"--episodes \d+", "--episodes 2", "collect and eval play 2 episodes"),
-    (r"(unified-manip speed\b[^\n]*?)--steps \d+", r"\1--steps 50", "speed times 50 steps"),
+    (
+        r"((?:unified-manip |python -m benchmarks\.)speed\b[^\n]*?)--steps \d+",
+        r"\1--steps 50",
+        "speed times 50 steps",
+    ),
     (r"--repeats \d+", "--repeats 1", "one repeat"),
     (r"--set eval_freq=\d+", "--set eval_freq=150", "evaluate at 150 steps"),
     (r"--set n_eval_episodes=\d+", "--set n_eval_episodes=2", "two evaluation episodes"),
@@ -247,6 +252,7 @@ def _workspace(tmp: Path) -> Path:
             dst.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dst)
     (tmp / "docs" / "images").mkdir(parents=True)
+    (tmp / "benchmarks" / "out").mkdir(parents=True)  # where the measurement tools' figures go
     (tmp / "runs").mkdir()
     return tmp
 

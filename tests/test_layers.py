@@ -1,8 +1,10 @@
 """The package's architecture as a contract: layers import only downwards, and no two
-sibling modules import each other (import-linter, configured in pyproject.toml)."""
+sibling modules import each other (import-linter, configured in pyproject.toml); the
+measurement tools (benchmarks/) stay outside it."""
 
 from __future__ import annotations
 
+import ast
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +21,7 @@ def test_layers_import_only_downwards_and_nothing_is_circular():
         timeout=300,
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
-    assert "Layers: cli > tools > experiments > training > datasets > envs KEPT" in proc.stdout
+    assert "Layers: cli > experiments > training > datasets > envs KEPT" in proc.stdout
     assert "No import cycles between sibling modules KEPT" in proc.stdout
     assert "0 broken" in proc.stdout
 
@@ -37,3 +39,17 @@ def test_the_env_library_loads_no_training_code():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+def test_nothing_in_the_package_imports_the_measurement_tools():
+    """benchmarks/ is not installed: an import of it from the package would fail in a wheel."""
+    importers = []
+    for path in sorted((ROOT / "unified_manip").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            if isinstance(node, ast.ImportFrom) and node.level == 0:
+                names = [node.module or ""]
+            if any(n == "benchmarks" or n.startswith("benchmarks.") for n in names):
+                importers.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert importers == []
+    assert not (ROOT / "unified_manip" / "tools").exists()

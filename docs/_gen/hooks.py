@@ -19,8 +19,12 @@ from pathlib import Path
 from mkdocs.structure.files import File, Files
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+# The checkout's root, last (an installed unified_manip still comes first): the measurement
+# tools (benchmarks/), not installed, render the conversion table's results page.
+sys.path.append(str(Path(__file__).resolve().parents[2]))
 
 import clipage  # noqa: E402
+import mode_table  # noqa: E402
 import resultpages  # noqa: E402
 import taskpages  # noqa: E402
 
@@ -57,12 +61,6 @@ def on_files(files: Files, config) -> Files:
     return files
 
 
-def _mode_table() -> str:
-    from unified_manip.tools.mode_table import README_END, README_START, readme_table
-
-    return readme_table().replace(README_START, "").replace(README_END, "").strip()
-
-
 def _reward_table() -> str:
     from unified_manip.envs.registry import TASKS
     from unified_manip.envs.rewards import REWARD_TYPES
@@ -80,7 +78,7 @@ def _experiment(name: str) -> Path:
 
 def _expand(kind: str, args: list[str], depth: int) -> str:
     if kind == "mode-table":
-        return _mode_table()
+        return mode_table.mode_table()
     if kind == "reward-table":
         return _reward_table()
     if kind == "task-table":

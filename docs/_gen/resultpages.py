@@ -139,10 +139,10 @@ def _rank(png: Path, panels: tuple[str, ...]) -> int:
 
 def conversion_tables(path: Path) -> str:
     """Markdown: the conversion table's ``conversion.json`` (``python -m
-    unified_manip.tools.conversion_table``), a task × mode overview, then every row."""
+    benchmarks.conversion_table``), a task × mode overview, then every row."""
     import json
 
-    from unified_manip.tools.conversion_table import markdown, overview
+    from benchmarks.conversion_table import markdown, overview
 
     results = json.loads((path / "conversion.json").read_text())
     return overview(results) + "\n\n" + markdown(results).replace("UnifiedManip/", "")

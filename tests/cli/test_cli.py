@@ -85,9 +85,9 @@ def test_bad_input_is_one_line_and_exit_code_2():
     assert "Traceback" not in proc.stderr
 
 
-def test_speed_reports_env_and_raw_rates(tmp_path):
+def test_speed_reports_the_env_step_rate_of_each_mode(tmp_path):
     out = tmp_path / "speed.json"
-    run(
+    proc = run(
         "speed",
         "--env",
         "UnifiedManip/Arm4Reach-v0",
@@ -101,10 +101,14 @@ def test_speed_reports_env_and_raw_rates(tmp_path):
         str(out),
     )
     rows = json.loads(out.read_text())["modes"]
-    assert [r["action_mode"] for r in rows] == ["joint_position", "ee_delta"]
-    for r in rows:
-        assert r["env_steps_per_s"] > 0 and r["raw_steps_per_s"] > 0
-        assert r["ratio_to_raw"] == r["env_steps_per_s"] / r["raw_steps_per_s"]
+    assert [(r["task_id"], r["action_mode"]) for r in rows] == [
+        ("UnifiedManip/Arm4Reach-v0", "joint_position"),
+        ("UnifiedManip/Arm4Reach-v0", "ee_delta"),
+    ]
+    assert all(r["env_steps_per_s"] > 0 for r in rows)
+    # The table shows each rate, and each mode's against joint_position's.
+    ratio = rows[1]["env_steps_per_s"] / rows[0]["env_steps_per_s"]
+    assert f"{rows[1]['env_steps_per_s']:,.0f}" in proc.stdout and f"{ratio:.2f}" in proc.stdout
 
 
 @pytest.mark.slow
@@ -138,26 +142,3 @@ def _scripted_success(task_id: str, seed: int) -> bool:
             break
     env.close()
     return bool(info["is_success"])
-
-
-def test_speed_compares_native_mode_with_the_upstream_env(tmp_path):
-    out = tmp_path / "speed.json"
-    proc = run(
-        "speed",
-        "--env",
-        "UnifiedManip/FetchReach-v0",
-        "--modes",
-        "native",
-        "--steps",
-        "100",
-        "--repeats",
-        "1",
-        "--json",
-        str(out),
-    )
-    (row,) = json.loads(out.read_text())["upstream"]
-    assert row["task_id"] == "UnifiedManip/FetchReach-v0" and row["upstream"] == "FetchReach-v4"
-    assert row["ours_steps_per_s"] > 0 and row["upstream_steps_per_s"] > 0
-    assert row["ratio"] == row["ours_steps_per_s"] / row["upstream_steps_per_s"]
-    assert row["ours_resets_per_s"] > 0 and row["upstream_resets_per_s"] > 0
-    assert "one step of each in turn" in proc.stdout

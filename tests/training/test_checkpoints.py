@@ -194,7 +194,7 @@ def test_a_waiting_owner_gets_the_directory_when_the_first_lets_go(tmp_path):
 
 # ---------------------------------------------------------------------- the size benchmark
 def test_checkpoint_size_benchmark_compares_whole_and_trimmed_buffers():
-    from unified_manip.tools.checkpoint_size import measure, table
+    from benchmarks.checkpoint_size import measure, table
 
     result = measure("UnifiedManip/Arm4Reach-v0", buffer_size=20_000, steps=300, repeats=1)
     before, after = result["before"], result["after"]

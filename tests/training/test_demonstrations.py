@@ -79,10 +79,10 @@ def test_prefill_stores_whole_scripted_episodes_consistent_with_the_reward(task_
 
 
 def test_action_noise_measures_how_much_each_mode_disturbs_the_scripted_policy():
-    """``python -m unified_manip.tools.exploration --noise``: without noise it is the
+    """``python -m benchmarks.exploration --noise``: without noise it is the
     demonstrations' own success; the same small noise that joint_delta shrugs off (its
     step scales it) breaks joint_position, where it moves the absolute target."""
-    from unified_manip.tools.exploration import noisy_demonstrations
+    from benchmarks.exploration import noisy_demonstrations
 
     assert noisy_demonstrations(ARM, "joint_delta", 0.0, episodes=3) == 1.0
     assert noisy_demonstrations(ARM, "joint_delta", 0.1, episodes=3) == 1.0
@@ -91,10 +91,10 @@ def test_action_noise_measures_how_much_each_mode_disturbs_the_scripted_policy()
 
 
 def test_footprint_shows_absolute_targets_use_a_small_part_of_the_action_box():
-    """``python -m unified_manip.tools.exploration --footprint``: the scripted pick-and-place
+    """``python -m benchmarks.exploration --footprint``: the scripted pick-and-place
     uses most of each incremental mode's range, but only a narrow band of each arm
     joint's absolute-target range, and changes its absolute targets far less per step."""
-    from unified_manip.tools.exploration import footprint
+    from benchmarks.exploration import footprint
 
     position, position_change = footprint(ARM, "joint_position", episodes=2)
     delta, delta_change = footprint(ARM, "joint_delta", episodes=2)

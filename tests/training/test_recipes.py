@@ -213,7 +213,7 @@ def test_only_selects_runs_and_refuses_what_matches_nothing(tmp_path):
 
 # ---------------------------------------------------------------------- exploration diagnostic
 def test_exploration_measures_what_random_actions_give_her():
-    from unified_manip.tools.exploration import measure
+    from benchmarks.exploration import measure
 
     arm = measure("UnifiedManip/Arm4Push-v0", "ee_delta", episodes=3)
     # Arm4Push's goals lie at least 10 cm from the cube: never met by chance.
@@ -229,7 +229,7 @@ def test_exploration_measures_what_random_actions_give_her():
 
 
 def test_step_response_shows_the_servo_overshoot_only_where_a_mode_holds_its_target():
-    from unified_manip.tools.step_response import measure
+    from benchmarks.step_response import measure
 
     # One full step on j1 (axis 1): joint_target_delta holds the target and the stiff servo
     # overshoots it; joint_delta re-targets from where the arm is, so the overshoot is gone.

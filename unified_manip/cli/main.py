@@ -43,76 +43,20 @@ def cmd_list(args: argparse.Namespace) -> int:
 
 
 def cmd_speed(args: argparse.Namespace) -> int:
-    from unified_manip.tools import speed
+    from unified_manip.experiments import speed
 
     results = speed.run(args.env, args.modes, steps=args.steps, repeats=args.repeats)
-    table = Table(title=f"env steps/s vs raw physics (median of {args.repeats} x {args.steps} steps)")
-    for col in (
-        "ID",
-        "action mode",
-        "env steps/s",
-        "raw physics steps/s",
-        "env / raw",
-        "overhead µs/step",
-        "mode / joint_position",
-    ):
+    table = Table(title=f"env steps/s (median of {args.repeats} x {args.steps} steps, random actions)")
+    for col in ("ID", "action mode", "env steps/s", "mode / joint_position"):
         table.add_column(col, justify="right")
     by_key = {(r.task_id, r.action_mode): r for r in results}
     for r in results:
         jp = by_key.get((r.task_id, "joint_position"))
         rel = f"{r.env_steps_per_s / jp.env_steps_per_s:.2f}" if jp else "-"
-        table.add_row(
-            r.task_id,
-            r.action_mode,
-            f"{r.env_steps_per_s:,.0f}",
-            f"{r.raw_steps_per_s:,.0f}",
-            f"{r.ratio_to_raw:.2f}",
-            f"{r.overhead_us:.0f}",
-            rel,
-        )
-    console = Console(width=args.width)
-    console.print(table)
-    document = {"modes": [r.as_dict() for r in results]}
-    ids = args.env or list(TASKS)
-    wrapped = [t for t in ids if TASKS[t].upstream_id]
-    if wrapped and not args.no_upstream:
-        up = Table(title="native mode against the upstream env, same actions, one step of each in turn")
-        for col in (
-            "ID",
-            "upstream",
-            "ours steps/s",
-            "upstream steps/s",
-            "ours / upstream",
-            "ours resets/s",
-            "upstream resets/s",
-        ):
-            up.add_column(col, justify="right")
-        rows = [speed.compare_upstream(t, steps=args.steps) for t in wrapped]
-        for r in rows:
-            up.add_row(
-                r.task_id,
-                r.upstream,
-                f"{r.ours_steps_per_s:,.0f}",
-                f"{r.upstream_steps_per_s:,.0f}",
-                f"{r.ratio:.3f}",
-                f"{r.ours_resets_per_s:,.0f}",
-                f"{r.upstream_resets_per_s:,.1f}",
-            )
-        console.print(up)
-        document["upstream"] = [r.as_dict() for r in rows]
-    if args.train:
-        tr = Table(title="SAC+HER training steps/s, native mode against the upstream env")
-        for col in ("ID", "upstream", "ours steps/s", "upstream steps/s", "ours / upstream"):
-            tr.add_column(col, justify="right")
-        rows = [speed.train_speed(t, steps=args.train_steps) for t in args.train]
-        for r in rows:
-            tr.add_row(
-                r.task_id, r.upstream, f"{r.ours_steps_per_s:,.1f}", f"{r.upstream_steps_per_s:,.1f}", f"{r.ratio:.3f}"
-            )
-        console.print(tr)
-        document["training"] = [r.as_dict() for r in rows]
+        table.add_row(r.task_id, r.action_mode, f"{r.env_steps_per_s:,.0f}", rel)
+    Console(width=args.width).print(table)
     if args.json:
-        write_json(args.json, document)
+        write_json(args.json, {"modes": [r.as_dict() for r in results]})
     return 0
 
 
@@ -146,14 +90,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--width", type=int, default=200, help="table width in characters")
     p.set_defaults(func=cmd_list)
 
-    p = sub.add_parser("speed", help="env steps/s per ID x action mode, against the raw physics limit")
+    p = sub.add_parser("speed", help="env steps/s per ID x action mode, random actions")
     p.add_argument("--env", type=task_ids, help="comma-separated IDs (default: all)")
     p.add_argument("--modes", type=lambda s: s.split(","), help="comma-separated action modes (default: all)")
     p.add_argument("--steps", type=positive_int, default=2000, help="steps per measurement")
     p.add_argument("--repeats", type=positive_int, default=3, help="measurements per figure (median)")
-    p.add_argument("--no-upstream", action="store_true", help="skip the comparison with wrapped upstream envs")
-    p.add_argument("--train", type=task_ids, help="also time SAC+HER training on these IDs against their upstream envs")
-    p.add_argument("--train-steps", type=positive_int, default=1500, help="training steps per timed round")
     p.add_argument("--json", help="also write the results to this JSON file")
     p.add_argument("--width", type=int, default=200, help="table width in characters")
     p.set_defaults(func=cmd_speed)

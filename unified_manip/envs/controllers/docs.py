@@ -1,5 +1,6 @@
 """A task page's action modes, generated from its controller configs
-(``unified-manip list --doc``); the table across tasks is :mod:`unified_manip.tools.mode_table`."""
+(``unified-manip list --doc``); the table across tasks (the site's action-modes page) is
+``docs/_gen/mode_table.py``'s."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Throughput of ``rgb`` observations, against robosuite's own camera observations.
 
-Run it as ``python -m unified_manip.tools.camera_speed`` (``--help`` for the options). For
+Run it as ``python -m benchmarks.camera_speed`` (``--help`` for the options). For
 each task and image size it measures, in one run, with random actions and autoresets:
 
 ==============  ==================================================================
@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 TASKS: tuple[str, ...] = (
     "UnifiedManip/Arm4PickAndPlace-v0",
@@ -141,7 +141,7 @@ def table(rows: list[dict[str, Any]]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    p = ToolParser("unified_manip.tools.camera_speed", __doc__)
+    p = ToolParser("benchmarks.camera_speed", __doc__)
     p.add_argument("--tasks", nargs="+", default=list(TASKS))
     p.add_argument("--sizes", nargs="+", type=int, default=list(SIZES))
     p.add_argument("--num-envs", type=int, default=8, help="N of the vector env")

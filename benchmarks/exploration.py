@@ -1,4 +1,4 @@
-"""What random exploration gives HER on each task: ``python -m unified_manip.tools.exploration``.
+"""What random exploration gives HER on each task: ``python -m benchmarks.exploration``.
 
 HER learns about the object only from episodes in which the object moved, and it gets a
 free positive label whenever a goal is met by chance. This measures both under uniform
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 #: Task ID and action mode of each compared task (the benchmark's modes).
 DEFAULT_TASKS = (
@@ -57,7 +57,7 @@ def _grip_reader(env):
     """A function returning the grip-site position of ``env``'s simulation."""
     import mujoco
 
-    backend = env.unwrapped._backend  # noqa: SLF001 - measuring, not controlling
+    backend = env.unwrapped.backend
     model, data = backend.model, backend.data
     for name in GRIP_SITES:
         site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -91,7 +91,7 @@ def measure(task_id: str, action_mode: str, episodes: int = 200, moved: float = 
         disp.append(d)
         moves += int(d > moved)
     spec = env.spec
-    dt = float(env.unwrapped._backend.dt)  # noqa: SLF001
+    dt = float(env.unwrapped.backend.dt)
     env.close()
     per_step = 100.0 * travel / max(steps, 1)
     return Exploration(
@@ -192,7 +192,7 @@ def _noise_table(task_id: str, sigmas: list[float], episodes: int) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = ToolParser("unified_manip.tools.exploration", __doc__)
+    parser = ToolParser("benchmarks.exploration", __doc__)
     parser.add_argument("--episodes", type=int, default=200)
     parser.add_argument("--json", help="write the results here")
     parser.add_argument(

@@ -1,13 +1,5 @@
-"""``unified-manip speed``: env steps per second against the raw physics limit.
-
-For every ID x action mode, random actions are played through ``gym.make``'s env
-(wrappers included, env checker off) and two clocks run over the same steps: the wall
-time of the whole ``step`` calls, and the time spent inside the backend's
-:meth:`~unified_manip.envs.backend.Backend.physics_step` (the substeps of ``mj_step``,
-nothing else). Their ratio is the fraction of the raw physics limit the env reaches on
-exactly the states it visited. Compare ratios, not absolute rates: these machines are
-shared and noisy.
-"""
+"""Our envs against the upstream envs they wrap, stepped and trained side by side (the
+upstream tables of ``python -m benchmarks.speed``)."""
 
 from __future__ import annotations
 
@@ -21,85 +13,6 @@ import numpy as np
 from unified_manip.envs.registry import TASKS
 
 
-@dataclass(frozen=True)
-class SpeedResult:
-    task_id: str
-    action_mode: str
-    env_steps_per_s: float
-    raw_steps_per_s: float
-
-    @property
-    def ratio_to_raw(self) -> float:
-        return self.env_steps_per_s / self.raw_steps_per_s
-
-    @property
-    def overhead_us(self) -> float:
-        """Time per step spent outside the physics (control, observation, reward), µs."""
-        return 1e6 * (1.0 / self.env_steps_per_s - 1.0 / self.raw_steps_per_s)
-
-    def as_dict(self) -> dict:
-        return {**asdict(self), "ratio_to_raw": self.ratio_to_raw, "overhead_us": self.overhead_us}
-
-
-def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) -> SpeedResult:
-    """Step rate of the env and of its physics alone, over the same ``steps`` steps."""
-    env = gym.make(task_id, action_mode=action_mode, disable_env_checker=True)
-    env.reset(seed=seed)
-    rng = np.random.default_rng(seed)
-    actions = rng.uniform(-1, 1, size=(steps + 50,) + env.action_space.shape).astype(np.float32)
-    clock = time.perf_counter
-    try:
-        with env.unwrapped.timing_physics() as physics:
-            for a in actions[:50]:  # warm-up: lazy allocations, caches
-                env.step(a)
-            env.reset(seed=seed)
-            physics.seconds = 0.0
-            resets = 0.0
-            start = clock()
-            for a in actions[50:]:
-                _, _, terminated, truncated, _ = env.step(a)
-                if terminated or truncated:
-                    t = clock()
-                    env.reset()
-                    resets += clock() - t
-            total = clock() - start - resets
-    finally:
-        env.close()
-    spent = physics.seconds
-    # A mode that steps the physics inside upstream code (e.g. Fetch's native mocap
-    # control) never calls physics_step: its raw rate is unknown here (see upstream table).
-    return SpeedResult(task_id, action_mode, steps / total, steps / spent if spent > 0 else float("nan"))
-
-
-def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:
-    """Measure every requested ID x supported mode; each figure is the median of
-    ``repeats`` measurements, taken in rounds so that load spikes spread over modes."""
-    from tqdm import tqdm
-
-    jobs = [
-        (tid, mode)
-        for tid in (task_ids or list(TASKS))
-        for mode in TASKS[tid].action_modes
-        if modes is None or mode in modes
-    ]
-    samples: dict[tuple[str, str], list[SpeedResult]] = {job: [] for job in jobs}
-    with tqdm(total=len(jobs) * repeats, desc="speed", disable=not progress, unit="run") as bar:
-        for _ in range(repeats):
-            for tid, mode in jobs:
-                samples[(tid, mode)].append(measure(tid, mode, steps=steps))
-                bar.update()
-    return [
-        SpeedResult(
-            tid,
-            mode,
-            statistics.median(r.env_steps_per_s for r in rs),
-            statistics.median(r.raw_steps_per_s for r in rs),
-        )
-        for (tid, mode), rs in samples.items()
-    ]
-
-
-# ---------------------------------------------------------------------- against upstream
 @dataclass(frozen=True)
 class UpstreamResult:
     task_id: str
@@ -210,19 +123,3 @@ def train_speed(task_id: str, steps: int = 1500, rounds: int = 2, seed: int = 0)
     ratios = [a / b for a, b in zip(ours_rates, theirs_rates)]
     mid = statistics.median(ratios)
     return UpstreamResult(task_id, spec.upstream_id, statistics.median(ours_rates), statistics.median(ours_rates) / mid)
-
-
-# ---------------------------------------------------------------------- import time
-def import_times(repeats: int = 10, modules: tuple[str, ...] = ("gymnasium", "unified_manip")) -> dict[str, float]:
-    """Median wall time, s, of ``python -c "import <module>"`` for each module, each a
-    fresh interpreter, run in turn (``repeats`` rounds) so that all see the same load."""
-    import subprocess
-    import sys
-
-    times: dict[str, list[float]] = {m: [] for m in modules}
-    for _ in range(repeats):
-        for m in modules:
-            start = time.perf_counter()
-            subprocess.run([sys.executable, "-c", f"import {m}"], check=True)
-            times[m].append(time.perf_counter() - start)
-    return {m: statistics.median(t) for m, t in times.items()}

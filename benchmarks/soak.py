@@ -1,8 +1,8 @@
 """Soak and memory benchmark: long random rollouts, many rendered frames, many make/close
 cycles, with resident memory, open file descriptors, threads and live GL contexts counted.
 
-    python -m unified_manip.tools.soak                        # the full sizes (tens of minutes)
-    python -m unified_manip.tools.soak --steps 3000 --frames 30 --cycles 6   # a quick check
+    python -m benchmarks.soak                        # the full sizes (tens of minutes)
+    python -m benchmarks.soak --steps 3000 --frames 30 --cycles 6   # a quick check
 
 Three parts, each against its limits (the process exits 1 if one is missed):
 
@@ -30,8 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.tools.gauges import gl_contexts, open_fds, rss_mb, threads
-from unified_manip.tools.parser import ToolParser
+from benchmarks.gauges import gl_contexts, open_fds, rss_mb, threads
+from benchmarks.parser import ToolParser
 
 RSS_LIMIT_MB = 50.0
 STEP_TASK = "UnifiedManip/Arm4PickAndPlace-v0"
@@ -240,7 +240,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = ToolParser("unified_manip.tools.soak", __doc__)
+    parser = ToolParser("benchmarks.soak", __doc__)
     parser.add_argument("--steps", type=_positive, default=200_000, help="random steps per arm action mode")
     parser.add_argument("--frames", type=_positive, default=5_000, help="rgb_array frames per family")
     parser.add_argument("--cycles", type=_positive, default=1_000, help="make/close cycles per family")
@@ -253,7 +253,7 @@ def main(argv: list[str] | None = None) -> int:
     if unknown or not parts:
         parser.error(f"unknown part {unknown[0] if unknown else ''!r}; expected steps, frames or cycles")
     os.environ.setdefault("MUJOCO_GL", "egl")
-    command = "python -m unified_manip.tools.soak " + " ".join(sys.argv[1:] if argv is None else argv)
+    command = "python -m benchmarks.soak " + " ".join(sys.argv[1:] if argv is None else argv)
     for task in {STEP_TASK, *FRAME_TASKS, *CYCLE_TASKS}:  # load every family now, not hours into the run
         _make(task).close()
     started = time.time()

@@ -1,4 +1,4 @@
-"""Training-throughput levers measured side by side: ``python -m unified_manip.tools.levers``.
+"""Training-throughput levers measured side by side: ``python -m benchmarks.levers``.
 
 Each *lever* is one training setting: an algorithm key, ``--set`` overrides and a number
 of envs (stepped in one process, so every setting gets the same single core). The
@@ -18,7 +18,7 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 
 @dataclass(frozen=True)
@@ -193,7 +193,7 @@ def measure(
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = ToolParser("unified_manip.tools.levers", __doc__)
+    parser = ToolParser("benchmarks.levers", __doc__)
     parser.add_argument("--env", default="UnifiedManip/FetchPush-v0")
     parser.add_argument("--action-mode", default="native")
     parser.add_argument("--levers", help="comma-separated lever names (default: all)")

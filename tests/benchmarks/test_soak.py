@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import unified_manip
-from unified_manip.tools import gauges, soak
+from benchmarks import gauges, soak
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -22,7 +22,7 @@ def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
         [
             sys.executable,
             "-m",
-            "unified_manip.tools.soak",
+            "benchmarks.soak",
             "--steps",
             "1000",
             "--frames",
@@ -61,7 +61,7 @@ def test_short_soak_holds_memory_descriptors_and_contexts(tmp_path):
 
 def test_soak_bad_input_is_one_line_exit_2():
     proc = subprocess.run(
-        [sys.executable, "-m", "unified_manip.tools.soak", "--parts", "steps,naps"],
+        [sys.executable, "-m", "benchmarks.soak", "--parts", "steps,naps"],
         capture_output=True,
         text=True,
         timeout=120,
@@ -69,8 +69,7 @@ def test_soak_bad_input_is_one_line_exit_2():
     )
     assert proc.returncode == 2
     assert (
-        proc.stderr.strip()
-        == "python -m unified_manip.tools.soak: error: unknown part 'naps'; expected steps, frames or cycles"
+        proc.stderr.strip() == "python -m benchmarks.soak: error: unknown part 'naps'; expected steps, frames or cycles"
     )
 
 

@@ -1,7 +1,7 @@
 """The conversion table: per task, the share of recorded ``ee_delta`` episodes that still
 succeed when ``convert`` re-executes them in each action mode, with the tracking error.
 
-Run it as ``python -m unified_manip.tools.conversion_table --env ID[,ID...] --episodes 50
+Run it as ``python -m benchmarks.conversion_table --env ID[,ID...] --episodes 50
 --out DIR``; it records ``--episodes`` successful scripted episodes per task into
 ``DIR/<task>-ee_delta-v0``, converts them to every other mode (measuring only, no
 datasets written) and prints a Markdown table (and ``--json``'s document). For comparison
@@ -19,13 +19,13 @@ import time
 from pathlib import Path
 from typing import Any
 
+from benchmarks.parser import ToolParser
 from unified_manip.datasets import DatasetError
 from unified_manip.datasets.convert import convert
 from unified_manip.datasets.policies import scripted
 from unified_manip.datasets.recording import collect
 from unified_manip.datasets.store import metadata, open_dataset
 from unified_manip.envs.registry import TASKS, get_task
-from unified_manip.tools.parser import ToolParser
 
 
 def measure(
@@ -168,7 +168,7 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = ToolParser("unified_manip.tools.conversion_table", __doc__)
+    parser = ToolParser("benchmarks.conversion_table", __doc__)
     parser.add_argument("--env", required=True, help="comma-separated task IDs")
     parser.add_argument("--episodes", type=int, default=50)
     parser.add_argument("--out", required=True, help="directory for the recorded datasets")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from unified_manip.tools import vector_bench as bench
+from benchmarks import vector_bench as bench
 
 
 def test_benchmark_runs_every_kind(tmp_path, capsys):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from conftest import ROOT, cli_in_process
 
-from unified_manip.tools import diagnose
+from benchmarks import diagnose
 from unified_manip.training.rundir import RunDirectoryError
 
 COMMITTED = ROOT / "results/action_spaces_families/runs/Arm4PickAndPlace-v0__joint_position__sparse__tqc_her__s0"

@@ -1,4 +1,4 @@
-"""How far the gripper overshoots one action step: ``python -m unified_manip.tools.step_response``.
+"""How far the gripper overshoots one action step: ``python -m benchmarks.step_response``.
 
 Issue 10 (3b) lists the arm's stiff servos, which overshoot a joint step by up to ~13%, as
 one reason the arm might learn more slowly than Fetch. What an agent acting in an
@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from unified_manip.tools.exploration import _grip_reader
-from unified_manip.tools.parser import ToolParser
+from benchmarks.exploration import _grip_reader
+from benchmarks.parser import ToolParser
 
 #: Task ID and action mode of each compared case: the arm's incremental modes, which
 #: re-target from where the arm is (``*_delta``) or from the last target (``*_target_delta``),
@@ -86,7 +86,7 @@ def measure(task_id: str, action_mode: str, axis: int = 0, episodes: int = 5, st
         settled.append(final)
         peak.append(float(dist.max()))
         settle.append(int(outside[-1]) + 2 if outside.size else 1)
-    dt = float(env.unwrapped._backend.dt)  # noqa: SLF001 - measuring, not controlling
+    dt = float(env.unwrapped.backend.dt)
     env.close()
     s, p = float(np.mean(settled)), float(np.mean(peak))
     return StepResponse(
@@ -103,7 +103,7 @@ def measure(task_id: str, action_mode: str, axis: int = 0, episodes: int = 5, st
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = ToolParser("unified_manip.tools.step_response", __doc__)
+    parser = ToolParser("benchmarks.step_response", __doc__)
     parser.add_argument("--episodes", type=int, default=5)
     parser.add_argument(
         "--axes", type=int, nargs="+", default=[0, 1], help="the action dimensions stepped, one at a time (default 0 1)"

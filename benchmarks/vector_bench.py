@@ -1,6 +1,6 @@
 """Throughput of the native vector env against the alternatives, and its physics limit.
 
-Run it as ``python -m unified_manip.tools.vector_bench`` (``--help`` for the options). For
+Run it as ``python -m benchmarks.vector_bench`` (``--help`` for the options). For
 each action mode and number of envs N, every kind of vector env plays the same random
 actions (env steps per second over all N envs; autoresets included, as in training):
 
@@ -17,7 +17,7 @@ dummy          SB3's ``DummyVecEnv``
 
 The raw physics limit is measured in the same run: the single-thread rate of the
 backend's ``physics_step`` (``mj_step``, the 10 substeps of one env step, nothing
-else) on the states a random-action episode visits (``unified-manip speed``'s method),
+else) on the states a random-action episode visits (``python -m benchmarks.speed``'s method),
 times the number of threads. ``--physics`` adds a table of the physics alone on N
 simulations: the thread pool against ``mujoco.rollout``'s persistent pool.
 Kinds are measured in turn within each round (the order rotates) and each figure is
@@ -38,7 +38,7 @@ from typing import Any, Callable
 import gymnasium as gym
 import numpy as np
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 KINDS = ("native", "native-sb3", "sync", "async", "subproc", "dummy")
 
@@ -98,8 +98,8 @@ def _action_dim(env) -> int:
 
 
 def raw_rate(task_id: str, mode: str, steps: int) -> float:
-    """Single-thread env steps per second of the physics alone (``unified-manip speed``)."""
-    from unified_manip.tools.speed import measure
+    """Single-thread env steps per second of the physics alone (:func:`benchmarks.speed.measure`)."""
+    from benchmarks.speed import measure
 
     return measure(task_id, mode, steps=steps).raw_steps_per_s
 
@@ -239,7 +239,7 @@ def _csv(kind: Callable[[str], Any]) -> Callable[[str], list]:
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.envs.vector.pool import default_num_threads
 
-    p = ToolParser("unified_manip.tools.vector_bench", __doc__)
+    p = ToolParser("benchmarks.vector_bench", __doc__)
     p.add_argument("--env", default="UnifiedManip/Arm4PickAndPlace-v0", help="task ID")
     p.add_argument(
         "--modes", type=_csv(str), default=["joint_position", "ee_delta"], help="comma-separated action modes"

@@ -1,4 +1,4 @@
-"""The argument parser of the ``python -m unified_manip.tools.<name>`` commands.
+"""The argument parser of the ``python -m benchmarks.<name>`` commands.
 
 Like the ``unified-manip`` CLI's: an error is one line, exit status 2, and the help reads as
 plain text (the module docstring's reST markup is dropped).
@@ -22,7 +22,7 @@ class ToolParser(argparse.ArgumentParser):
     """argparse for the tool ``module``, described by the first paragraph of ``doc``.
 
     Args:
-        module: The module's dotted name (``unified_manip.tools.soak``); the usage line
+        module: The module's dotted name (``benchmarks.soak``); the usage line
             names it as ``python -m`` runs it.
         doc: The module docstring.
     """

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sb3_contrib.tqc.tqc as tqc_module
 
-from unified_manip.tools import update_speed
+from benchmarks import update_speed
 
 TASK = "UnifiedManip/Arm4Reach-v0"
 

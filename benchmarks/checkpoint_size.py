@@ -1,6 +1,6 @@
 """Checkpoint size and write time: SB3's whole-buffer pickle against the trimmed checkpoint.
 
-    python -m unified_manip.tools.checkpoint_size --steps 10000 --buffer-size 1000000
+    python -m benchmarks.checkpoint_size --steps 10000 --buffer-size 1000000
 
 Builds the ``sac_her`` baseline of a task (its hyperparameters, with ``buffer_size`` as
 given), plays ``--steps`` env steps without learning (``learning_starts`` past them, so
@@ -25,7 +25,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 
 def _model(task: str, buffer_size: int, steps: int):
@@ -139,7 +139,7 @@ def _positive(value: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = ToolParser("unified_manip.tools.checkpoint_size", __doc__)
+    parser = ToolParser("benchmarks.checkpoint_size", __doc__)
     from unified_manip.envs.registry import TASKS
 
     ids = [t for t, spec in TASKS.items() if "ee_delta" in spec.action_modes]

@@ -8,8 +8,8 @@ import re
 
 import pytest
 
+from benchmarks.conversion_table import main, markdown, measure, overview
 from unified_manip.datasets import DatasetError
-from unified_manip.tools.conversion_table import main, markdown, measure, overview
 
 
 def test_the_arm_converts_every_episode_and_fetch_refuses_its_own_controller(tmp_path):

@@ -1,4 +1,4 @@
-"""What a run's policy did: ``python -m unified_manip.tools.diagnose RUN_DIR ...``.
+"""What a run's policy did: ``python -m benchmarks.diagnose RUN_DIR ...``.
 
 Issue 40 asks, for every action mode that fails on a task, what the mode did, measured
 rather than guessed. For each run directory this reports:
@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 #: Seeds of the played episodes: 123, 124, ... (``unified-manip eval``'s).
 FIRST_SEED = 123
@@ -256,7 +256,7 @@ def table(rows: list[Diagnosis]) -> str:
 def main(argv: list[str] | None = None) -> int:
     from unified_manip.training.rundir import RunDirectoryError
 
-    parser = ToolParser("unified_manip.tools.diagnose", __doc__)
+    parser = ToolParser("benchmarks.diagnose", __doc__)
     parser.add_argument("runs", nargs="+", type=Path, help="run directories")
     parser.add_argument("--episodes", type=int, default=20, help="episodes to play each policy (default 20)")
     parser.add_argument(

@@ -1,5 +1,5 @@
 """The cost of one gradient update of the recipe, and levers that keep the algorithm:
-``python -m unified_manip.tools.update_speed``.
+``python -m benchmarks.update_speed``.
 
 The recipe (``baselines/tqc_her.yaml``, the 8-env CPU entry) spends about 80% of its
 training time in TQC's update. This times SB3's *real* update, ``model.train``, on a
@@ -28,7 +28,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
-from unified_manip.tools.parser import ToolParser
+from benchmarks.parser import ToolParser
 
 #: The levers, each a set of switches; ``baseline`` is SB3's update as it ships.
 VARIANTS: dict[str, tuple[str, ...]] = {
@@ -170,7 +170,7 @@ def measure(
 
 
 def main(argv: list[str] | None = None) -> None:
-    parser = ToolParser("unified_manip.tools.update_speed", __doc__)
+    parser = ToolParser("benchmarks.update_speed", __doc__)
     parser.add_argument("--env", default="UnifiedManip/FetchPickAndPlace-v0")
     parser.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated, from " + ", ".join(VARIANTS))
     parser.add_argument("--rounds", type=int, default=5)
