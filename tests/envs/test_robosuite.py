@@ -213,12 +213,12 @@ def test_debug_logging_brings_robosuite_messages_back():
     assert "No private macro file found" in proc.stderr
 
 
-def test_physics_step_and_render():
+def test_a_step_is_dt_of_simulated_time_and_render():
     env = gym.make("UnifiedManip/Door-v0", render_mode="rgb_array", render_width=96, render_height=64)
     env.reset(seed=0)
-    backend = env.unwrapped._backend
+    backend = env.unwrapped.backend
     t = backend.data.time
-    backend.physics_step()
+    env.step(env.action_space.sample())
     assert backend.data.time == pytest.approx(t + backend.dt)
     frame = env.render()
     assert frame.shape == (64, 96, 3) and frame.std() > 5.0

@@ -10,22 +10,11 @@ env from the validated :class:`~unified_manip.envs.config.EnvConfig`.
 from __future__ import annotations
 
 import abc
-import time
-from contextlib import contextmanager
-from dataclasses import dataclass
-from typing import Any, Iterator, Mapping
+from typing import Any, Mapping
 
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup
-
-
-@dataclass
-class PhysicsTimer:
-    """Wall-clock seconds spent in :meth:`Backend.physics_step` while a
-    :meth:`Backend.timing_physics` block is open (set ``seconds`` to 0 to start over)."""
-
-    seconds: float = 0.0
 
 
 class Backend(abc.ABC):
@@ -64,12 +53,6 @@ class Backend(abc.ABC):
         Returns:
             Diagnostics to merge into ``info`` (e.g. IK residuals under ``ee_delta``).
         """
-
-    @abc.abstractmethod
-    def physics_step(self) -> None:
-        """Advance the simulator by one env step with the current controls, and nothing
-        else: no control law, observation or reward. ``unified-manip speed`` times it
-        as the raw physics limit the env's step rate is compared against."""
 
     @abc.abstractmethod
     def observation(self) -> np.ndarray:
@@ -152,26 +135,3 @@ class Backend(abc.ABC):
             return
         mujoco.mj_setState(self.model, self.data, state, spec)
         mujoco.mj_forward(self.model, self.data)
-
-    @contextmanager
-    def timing_physics(self) -> Iterator[PhysicsTimer]:
-        """Time every :meth:`physics_step` inside the ``with`` block (the timing hook of
-        ``unified-manip speed``: env step rate against the raw physics limit).
-
-        A mode that steps the physics inside upstream code (e.g. Fetch's native mocap
-        control) never calls ``physics_step``: its timer stays at 0.
-        """
-        timer = PhysicsTimer()
-        physics = self.physics_step
-        clock = time.perf_counter
-
-        def timed_physics() -> None:
-            start = clock()
-            physics()
-            timer.seconds += clock() - start
-
-        self.physics_step = timed_physics  # type: ignore[method-assign]  # instance attribute shadows the method
-        try:
-            yield timer
-        finally:
-            del self.physics_step

@@ -223,12 +223,6 @@ class UnifiedManipEnv(GoalEnv):
         """The simulator running this env (to read its state; the env steps it)."""
         return self._backend
 
-    def timing_physics(self):
-        """A context manager that times the simulator's physics alone, as a
-        :class:`~unified_manip.envs.backend.PhysicsTimer` (``unified-manip speed``'s hook;
-        see :meth:`~unified_manip.envs.backend.Backend.timing_physics`)."""
-        return self._backend.timing_physics()
-
     # ------------------------------------------------------------------ GoalEnv API
     def compute_reward(self, achieved_goal, desired_goal, info):
         """Reward for goals of shape ``(g,)`` or ``(B, g)``; equals ``step()``'s reward.

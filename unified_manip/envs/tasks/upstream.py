@@ -119,9 +119,6 @@ class UpstreamBackend(Backend):
         self._obs = private.observation(self._up)
         return diagnostics
 
-    def physics_step(self) -> None:
-        private.mujoco_step(self._up, None)
-
     def unstable(self) -> bool:
         return self._unstable
 

@@ -179,6 +179,9 @@ class Arm4Backend(Backend):
         return diagnostics
 
     def physics_step(self) -> None:
+        """The physics of one env step, ``substeps`` of ``mj_step`` with the controls as set:
+        :meth:`step` runs it after the control law, and the native vector env runs it on its
+        thread pool between the batched control and observation (:mod:`unified_manip.envs.vector.arm4`)."""
         mujoco.mj_step(self.model, self.data, nstep=self.substeps)
 
     def unstable(self) -> bool:

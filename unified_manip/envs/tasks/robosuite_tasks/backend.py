@@ -50,7 +50,6 @@ class RobosuiteBackend(Backend):
         up = make_upstream(self.task.env_name, self.options["robot"], self.mode)
         self._up = up
         self.dt = float(up.control_timestep)
-        self._substeps = int(round(up.control_timestep / up.model_timestep))
         self.model: mujoco.MjModel = up.sim.model._model
         self.data: mujoco.MjData = up.sim.data._data
         robot = up.robots[0]
@@ -75,7 +74,7 @@ class RobosuiteBackend(Backend):
         self._reward = 0.0
         self._unstable = False
         self._episode: tuple[int, np.ndarray] | None = None
-        self._log: list[np.ndarray | None] = []
+        self._log: list[np.ndarray] = []
         self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
 
     # -------------------------------------------------------------- episode
@@ -112,11 +111,6 @@ class RobosuiteBackend(Backend):
         self._achieved = None
         self._unstable = bad_state_warnings(self.data) > before
         return diagnostics
-
-    def physics_step(self) -> None:
-        self._log.append(None)
-        mujoco.mj_step(self.model, self.data, self._substeps)
-        self._achieved = None
 
     def unstable(self) -> bool:
         return self._unstable
@@ -198,7 +192,4 @@ class RobosuiteBackend(Backend):
             self._reset_upstream(seed)
             self._goal, self._episode = goal.copy(), (seed, goal.copy())
             for action in state["log"]:
-                if action is None:
-                    self.physics_step()
-                else:
-                    self.step(action)
+                self.step(action)
