@@ -3,7 +3,7 @@
 ``compile_loss: true`` runs TQC's quantile Huber loss (sb3-contrib's ``quantile_huber_loss``)
 through ``torch.compile`` while the run trains. Measured inside SB3's real TQC update of the
 benchmark recipe on one core (``python -m benchmarks.update_speed``,
-``docs/update_speed.json``): 85.8 ms per update eagerly, 58.1 ms compiled (1.48x). The loss is
+``benchmarks/out/update_speed.json``): 85.8 ms per update eagerly, 58.1 ms compiled (1.48x). The loss is
 the same function; compiled kernels may round differently in the last bits, so a compiled
 run is not bit-identical to an eager one, and ``config.yaml`` records the setting.
 """
