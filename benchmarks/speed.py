@@ -30,7 +30,7 @@ from benchmarks.upstream_speed import compare_upstream, train_speed
 from unified_manip.cli.args import positive_int, task_ids
 from unified_manip.cli.output import write_json
 from unified_manip.envs.registry import TASKS
-from unified_manip.experiments.speed import WARMUP, jobs, step_rate
+from unified_manip.experiments.speed import WARMUP, rounds, step_rate
 
 
 @dataclass(frozen=True)
@@ -103,15 +103,7 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
 def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[SpeedResult]:
     """Measure every requested ID x supported mode; each figure is the median of
     ``repeats`` measurements, taken in rounds so that load spikes spread over modes."""
-    from tqdm import tqdm
-
-    todo = jobs(task_ids, modes)
-    samples: dict[tuple[str, str], list[SpeedResult]] = {job: [] for job in todo}
-    with tqdm(total=len(todo) * repeats, desc="speed", disable=not progress, unit="run") as bar:
-        for _ in range(repeats):
-            for tid, mode in todo:
-                samples[(tid, mode)].append(measure(tid, mode, steps=steps))
-                bar.update()
+    samples = rounds(task_ids, modes, steps, repeats, progress, measure=measure)
     return [
         SpeedResult(
             tid,

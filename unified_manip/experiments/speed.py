@@ -66,26 +66,29 @@ def measure(task_id: str, action_mode: str, steps: int = 2000, seed: int = 0) ->
         env.close()
 
 
-def jobs(task_ids=None, modes=None) -> list[tuple[str, str]]:
-    """Every requested ID x action mode it supports (all IDs, all modes by default)."""
-    return [
+def rounds(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True, measure=measure):
+    """``measure(task_id, action_mode, steps=steps)`` of every requested ID x action mode it
+    supports (all IDs, all modes by default), ``repeats`` times in rounds: the samples of
+    each ``(task_id, action_mode)``, in order."""
+    from tqdm import tqdm
+
+    todo = [
         (tid, mode)
         for tid in (task_ids or list(TASKS))
         for mode in TASKS[tid].action_modes
         if modes is None or mode in modes
     ]
-
-
-def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[StepRate]:
-    """:func:`measure` every requested ID x action mode ``repeats`` times, in rounds; each
-    figure is the median of its ``repeats``."""
-    from tqdm import tqdm
-
-    todo = jobs(task_ids, modes)
-    samples: dict[tuple[str, str], list[float]] = {job: [] for job in todo}
+    samples: dict[tuple[str, str], list] = {job: [] for job in todo}
     with tqdm(total=len(todo) * repeats, desc="speed", disable=not progress, unit="run") as bar:
         for _ in range(repeats):
             for tid, mode in todo:
                 samples[(tid, mode)].append(measure(tid, mode, steps=steps))
                 bar.update()
+    return samples
+
+
+def run(task_ids=None, modes=None, steps: int = 2000, repeats: int = 3, progress: bool = True) -> list[StepRate]:
+    """:func:`measure` every requested ID x action mode (:func:`rounds`); each figure is
+    the median of its ``repeats``."""
+    samples = rounds(task_ids, modes, steps, repeats, progress)
     return [StepRate(tid, mode, statistics.median(rates)) for (tid, mode), rates in samples.items()]
