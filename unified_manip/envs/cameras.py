@@ -14,12 +14,14 @@ off too). ``env.render()`` for people keeps the full look (:mod:`.rendering`).
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from unified_manip.envs.rendering import SceneOptions, track
+from unified_manip.extras import MissingExtra
 
 #: The image groups an observation design may add beside its vector groups.
 IMAGE_GROUPS: tuple[str, ...] = ("rgb", "depth")
@@ -139,8 +141,8 @@ class ImageSensor:
     Built with MuJoCo's own ``mujoco.Renderer`` on first use (its GL context is made with
     the camera's multisampling and shadow map size; the model's values are restored
     after), dropped when pickled. With ``meshes="decimated"`` the GL context holds
-    simplified meshes (:func:`~unified_manip.envs.mesh_lod.decimated_model`); the scene
-    is always drawn from the env's own model and data.
+    simplified meshes (:func:`~unified_manip.envs.mesh_lod.decimated_meshes`; the
+    model's own are restored once it is made).
 
     Args:
         groups: The image groups to draw, a subset of :data:`IMAGE_GROUPS`.
@@ -186,12 +188,7 @@ class ImageSensor:
         import mujoco
 
         s, scene = self.camera.settings, self.camera.scene
-        source = model  # the model the GL context (its meshes and textures) is built from
-        if self.meshes == "decimated":
-            from unified_manip.envs.mesh_lod import decimated_model
-
-            source = decimated_model(model)
-        vis = source.vis
+        vis = model.vis
         vis.global_.offwidth = max(vis.global_.offwidth, self.size)
         vis.global_.offheight = max(vis.global_.offheight, self.size)
         saved = (vis.quality.offsamples, vis.quality.shadowsize)
@@ -200,7 +197,10 @@ class ImageSensor:
         if s.shadow_size is not None:
             vis.quality.shadowsize = s.shadow_size
         try:
-            self._renderer = mujoco.Renderer(source, self.size, self.size, max_geom=scene.max_geom)
+            with self._meshes(model):  # the GL context uploads the meshes as it is made
+                self._renderer = mujoco.Renderer(model, self.size, self.size, max_geom=scene.max_geom)
+        except MissingExtra:
+            raise
         except Exception as err:  # EGL / OSMesa / GLFW each fail in their own way
             raise RendererUnavailable(
                 f"image observations need an OpenGL renderer, and none could start "
@@ -228,6 +228,13 @@ class ImageSensor:
                 else:
                     setattr(view, key, value)
         self._view = view
+
+    def _meshes(self, model) -> Any:
+        if self.meshes == "decimated":
+            from unified_manip.envs.mesh_lod import decimated_meshes
+
+            return decimated_meshes(model)
+        return contextlib.nullcontext(model)
 
     def close(self) -> None:
         if self._renderer is not None:

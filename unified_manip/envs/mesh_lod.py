@@ -1,12 +1,12 @@
 """Decimated visual meshes for observation cameras (``camera_meshes="decimated"``).
 
 Software rendering (EGL on llvmpipe) spends a small frame on vertex work: robosuite's Lift
-draws about 182k mesh faces for an 84 px image. :func:`decimated_model` returns a copy of
-a compiled ``MjModel`` whose large meshes keep about 5% of their faces
+draws about 182k mesh faces for an 84 px image. :func:`decimated_meshes` simplifies a
+compiled ``MjModel``'s large meshes in place, to about 5% of their faces
 (`fast-simplification <https://github.com/pyvista/fast-simplification>`_, an optional
-dependency: the ``fast-camera`` extra). Only an observation camera's GL context is built
-from the copy; the scene is still drawn from the env's own model and data, so the physics,
-the poses and any randomised colours are the env's, and ``render()`` keeps the full meshes.
+dependency: the ``fast-camera`` extra), for as long as an observation camera's GL context
+is built (it uploads the meshes then), and restores them bit for bit: the physics, the
+poses and any randomised colours stay the env's, and ``render()`` keeps the full meshes.
 
 Each simplified mesh is cached on disk (:func:`cache_dir`), keyed by a hash of its
 compiled vertices, faces and texture-coordinate faces and the reduction, and written
@@ -15,12 +15,12 @@ atomically, so the cost (about a second for Lift) is paid once per machine.
 
 from __future__ import annotations
 
-import copy
+import contextlib
 import hashlib
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import numpy as np
 
@@ -132,37 +132,61 @@ def cached_mesh(
     return mesh
 
 
-def decimated_model(model: Any, reduction: float = REDUCTION) -> Any:
-    """A copy of ``model`` whose meshes of :data:`MIN_FACES` faces or more are simplified
-    in place (fewer vertices, faces and normals within each mesh's own slots).
+#: The model's arrays :func:`decimated_meshes` writes, and restores.
+MESH_FIELDS: tuple[str, ...] = (
+    "mesh_vert",
+    "mesh_vertnum",
+    "mesh_normal",
+    "mesh_normalnum",
+    "mesh_face",
+    "mesh_facenormal",
+    "mesh_facenum",
+    "mesh_facetexcoord",
+)
 
-    Only a GL context's mesh buffers should be built from it: its other arrays are the
-    model's at the time of the copy.
+
+@contextlib.contextmanager
+def decimated_meshes(model: Any, reduction: float = REDUCTION) -> Iterator[Any]:
+    """``model`` with its meshes of :data:`MIN_FACES` faces or more simplified in place
+    (fewer vertices, faces and normals within each mesh's own slots), for as long as the
+    ``with`` block runs; :data:`MESH_FIELDS` are restored bit for bit after, even on an
+    error.
+
+    Build a GL context (``mujoco.Renderer``) inside the block: it uploads the meshes then,
+    and keeps them. No physics step may run inside it.
     """
-    lod = copy.copy(model)
+    saved = {name: getattr(model, name).copy() for name in MESH_FIELDS}
+    try:
+        _simplify_in_place(model, reduction)
+        yield model
+    finally:
+        for name, values in saved.items():
+            getattr(model, name)[...] = values
+
+
+def _simplify_in_place(model: Any, reduction: float) -> None:
     for i in range(model.nmesh):
         n_face = int(model.mesh_facenum[i])
         if n_face < MIN_FACES:
             continue
         va, vn = int(model.mesh_vertadr[i]), int(model.mesh_vertnum[i])
         fa, na = int(model.mesh_faceadr[i]), int(model.mesh_normaladr[i])
-        face = model.mesh_face[fa : fa + n_face]
+        face = model.mesh_face[fa : fa + n_face].copy()
         textured = model.mesh_texcoordadr[i] >= 0
-        facetexcoord = model.mesh_facetexcoord[fa : fa + n_face] if textured else None
-        vert = model.mesh_vert[va : va + vn]
+        facetexcoord = model.mesh_facetexcoord[fa : fa + n_face].copy() if textured else None
+        vert = model.mesh_vert[va : va + vn].copy()
         normal = np.zeros_like(vert)  # one per vertex: the last face corner's wins
         normal[face.ravel()] = model.mesh_normal[na + model.mesh_facenormal[fa : fa + n_face].ravel()]
         mesh = cached_mesh(vert, face, normal, facetexcoord, reduction)
         nv, nf = len(mesh["vert"]), len(mesh["face"])
         if nf == 0 or nv > vn or nv > model.mesh_normalnum[i] or nf > n_face:
             continue  # nothing left, or no room in the mesh's slots: keep it whole
-        lod.mesh_vert[va : va + nv] = mesh["vert"]
-        lod.mesh_vertnum[i] = nv
-        lod.mesh_normal[na : na + nv] = mesh["normal"]
-        lod.mesh_normalnum[i] = nv
-        lod.mesh_face[fa : fa + nf] = mesh["face"]
-        lod.mesh_facenormal[fa : fa + nf] = mesh["face"]
-        lod.mesh_facenum[i] = nf
+        model.mesh_vert[va : va + nv] = mesh["vert"]
+        model.mesh_vertnum[i] = nv
+        model.mesh_normal[na : na + nv] = mesh["normal"]
+        model.mesh_normalnum[i] = nv
+        model.mesh_face[fa : fa + nf] = mesh["face"]
+        model.mesh_facenormal[fa : fa + nf] = mesh["face"]
+        model.mesh_facenum[i] = nf
         if textured:
-            lod.mesh_facetexcoord[fa : fa + nf] = mesh["facetexcoord"]
-    return lod
+            model.mesh_facetexcoord[fa : fa + nf] = mesh["facetexcoord"]
