@@ -60,6 +60,8 @@ def _single(
 ) -> tuple[Callable[[], None], Callable[[], None]]:
     import gymnasium as gym
 
+    import unified_manip  # noqa: F401  (registers the IDs: this tool may run from outside the package)
+
     if images:
         env = gym.make(task_id, observation=["default", "rgb"], image_size=size, camera=camera, camera_meshes=meshes)
     else:
@@ -79,6 +81,8 @@ def _vector(task_id: str, size: int, n: int) -> tuple[Callable[[], None], Callab
     import warnings
 
     import gymnasium as gym
+
+    import unified_manip  # noqa: F401  (registers the IDs)
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the fallback notice (robosuite): SyncVectorEnv is what runs
