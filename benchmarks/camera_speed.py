@@ -6,18 +6,22 @@ each task and image size it measures, in one run, with random actions and autore
 ==============  ==================================================================
 kind            what
 ==============  ==================================================================
+physics         ``gym.make(ID)``: no camera, the baseline of the ``/physics`` column
 single          ``gym.make(ID, observation=["default", "rgb"], image_size=S)``
+decimated       the same with ``camera_meshes="decimated"``
 collision       the same on Lift with ``camera="agentview_collision"`` (collision geoms)
-vector          ``gym.make_vec`` of the same, N envs (native where the family has it)
+vector          ``gym.make_vec`` of ``single``, N envs (native where the family has it)
 robosuite       ``robosuite.make("Lift", use_camera_obs=True, ...)`` at S x S
                 (``agentview``, robosuite's defaults otherwise), beside Lift only
+robosuite-phys  the same with ``use_camera_obs=False``
 ==============  ==================================================================
 
 Each figure is frames per second: env steps per second times the envs (one ``rgb`` frame per
 env step). The kinds run in turn within each round and each figure is the median over
 rounds, so load changes reach every kind alike; compare the ratios of one run, not rates
-across runs. The ratio column is ``single`` (and ``collision``) over ``robosuite`` for Lift
-at the same size (issue 41's target: at least 5x at 84 px).
+across runs. The ``/physics`` column is each kind's rate over its own no-camera rate
+(``physics``, or ``robosuite-phys`` for robosuite's): what a frame costs against a step. The
+last column is ``single`` (and ``collision``) over ``robosuite`` for Lift at the same size.
 """
 
 from __future__ import annotations
@@ -51,10 +55,17 @@ def _rate(step: Callable[[], None], steps: int, frames_per_step: int) -> float:
     return steps * frames_per_step / (time.perf_counter() - start)
 
 
-def _single(task_id: str, size: int, camera: str | None = None) -> tuple[Callable[[], None], Callable[[], None]]:
+def _single(
+    task_id: str, size: int, camera: str | None = None, meshes: str = "full", images: bool = True
+) -> tuple[Callable[[], None], Callable[[], None]]:
     import gymnasium as gym
 
-    env = gym.make(task_id, observation=["default", "rgb"], image_size=size, camera=camera)
+    import unified_manip  # noqa: F401  (registers the IDs: this tool may run from outside the package)
+
+    if images:
+        env = gym.make(task_id, observation=["default", "rgb"], image_size=size, camera=camera, camera_meshes=meshes)
+    else:
+        env = gym.make(task_id)
     env.reset(seed=0)
     env.action_space.seed(0)
 
@@ -71,6 +82,8 @@ def _vector(task_id: str, size: int, n: int) -> tuple[Callable[[], None], Callab
 
     import gymnasium as gym
 
+    import unified_manip  # noqa: F401  (registers the IDs)
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the fallback notice (robosuite): SyncVectorEnv is what runs
         env = gym.make_vec(task_id, num_envs=n, observation=["default", "rgb"], image_size=size)
@@ -79,7 +92,7 @@ def _vector(task_id: str, size: int, n: int) -> tuple[Callable[[], None], Callab
     return (lambda: env.step(env.action_space.sample())), env.close
 
 
-def _robosuite(size: int) -> tuple[Callable[[], None], Callable[[], None]]:
+def _robosuite(size: int, camera_obs: bool = True) -> tuple[Callable[[], None], Callable[[], None]]:
     import robosuite
 
     env = robosuite.make(
@@ -87,7 +100,7 @@ def _robosuite(size: int) -> tuple[Callable[[], None], Callable[[], None]]:
         robots="Panda",
         has_renderer=False,
         has_offscreen_renderer=True,
-        use_camera_obs=True,
+        use_camera_obs=camera_obs,
         camera_names="agentview",
         camera_heights=size,
         camera_widths=size,
@@ -101,17 +114,25 @@ def _robosuite(size: int) -> tuple[Callable[[], None], Callable[[], None]]:
     return (lambda: env.step(rng.uniform(low, high))), env.close
 
 
-def measure(tasks: tuple[str, ...], sizes: tuple[int, ...], n: int, steps: int, rounds: int) -> list[dict[str, Any]]:
-    """One row per task, size and kind: its frames/s (median over rounds)."""
+def measure(
+    tasks: tuple[str, ...], sizes: tuple[int, ...], n: int, steps: int, rounds: int, decimated: bool = True
+) -> list[dict[str, Any]]:
+    """One row per task, size and kind: its frames/s (median over rounds); ``n=0`` leaves
+    the vector env out, ``decimated=False`` the ``decimated`` kind."""
     rows = []
     for size in sizes:
         makers: dict[tuple[str, str], tuple[Callable[[], Any], int, int]] = {}
         for task in tasks:
+            makers[(task, "physics")] = (lambda t=task: _single(t, size, images=False), steps, 1)
             makers[(task, "single")] = (lambda t=task: _single(t, size), steps, 1)
-            makers[(task, f"vector{n}")] = (lambda t=task: _vector(t, size, n), max(steps // n, 1), n)
+            if decimated:
+                makers[(task, "decimated")] = (lambda t=task: _single(t, size, meshes="decimated"), steps, 1)
+            if n:
+                makers[(task, f"vector{n}")] = (lambda t=task: _vector(t, size, n), max(steps // n, 1), n)
         if ROBOSUITE_TASK in tasks:
             makers[(ROBOSUITE_TASK, "collision")] = (lambda: _single(ROBOSUITE_TASK, size, COLLISION_CAMERA), steps, 1)
             makers[("robosuite:Lift", "robosuite")] = (lambda: _robosuite(size), steps, 1)
+            makers[("robosuite:Lift", "robosuite-phys")] = (lambda: _robosuite(size, False), steps, 1)
         built = {key: make() for key, (make, _, _) in makers.items()}
         for step, _ in built.values():  # warm up: first renders, numba's compilation (robosuite)
             for _ in range(WARMUP_STEPS):
@@ -129,14 +150,18 @@ def measure(tasks: tuple[str, ...], sizes: tuple[int, ...], n: int, steps: int, 
 
 
 def table(rows: list[dict[str, Any]]) -> str:
-    """The rows as text, with ``single`` / ``robosuite`` ratios for Lift."""
-    lines = [f"{'task':<36} {'size':>4} {'kind':<10} {'frames/s':>9}  ratio"]
+    """The rows as text, with each kind's rate over its no-camera rate, and ``single`` /
+    ``robosuite`` ratios for Lift."""
+    lines = [f"{'task':<36} {'size':>4} {'kind':<14} {'frames/s':>9} {'/physics':>8}  ratio"]
     upstream = {r["size"]: r["frames_per_s"] for r in rows if r["kind"] == "robosuite"}
+    base = {(r["task"], r["size"]): r["frames_per_s"] for r in rows if r["kind"] in ("physics", "robosuite-phys")}
     for r in rows:
         ratio = ""
-        if r["task"] == ROBOSUITE_TASK and r["size"] in upstream:
+        if r["task"] == ROBOSUITE_TASK and r["size"] in upstream and r["kind"] != "physics":
             ratio = f"{r['frames_per_s'] / upstream[r['size']]:.1f}x robosuite"
-        lines.append(f"{r['task']:<36} {r['size']:>4} {r['kind']:<10} {r['frames_per_s']:>9.1f}  {ratio}")
+        physics = base.get((r["task"], r["size"]))
+        per = f"{r['frames_per_s'] / physics:.2f}" if physics and not r["kind"].startswith("vector") else ""
+        lines.append(f"{r['task']:<36} {r['size']:>4} {r['kind']:<14} {r['frames_per_s']:>9.1f} {per:>8}  {ratio}")
     return "\n".join(lines)
 
 
@@ -144,12 +169,15 @@ def main(argv: list[str] | None = None) -> None:
     p = ToolParser("benchmarks.camera_speed", __doc__)
     p.add_argument("--tasks", nargs="+", default=list(TASKS))
     p.add_argument("--sizes", nargs="+", type=int, default=list(SIZES))
-    p.add_argument("--num-envs", type=int, default=8, help="N of the vector env")
+    p.add_argument("--num-envs", type=int, default=8, help="N of the vector env (0: none)")
     p.add_argument("--steps", type=int, default=40, help="env steps per measurement (the vector env: steps / N)")
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--json", help="also write the rows to this file")
+    p.add_argument("--no-decimated", action="store_true", help="leave out the decimated kind (needs fast-camera)")
     args = p.parse_args(argv)
-    rows = measure(tuple(args.tasks), tuple(args.sizes), args.num_envs, args.steps, args.rounds)
+    rows = measure(
+        tuple(args.tasks), tuple(args.sizes), args.num_envs, args.steps, args.rounds, decimated=not args.no_decimated
+    )
     print(table(rows))
     if args.json:
         with open(args.json, "w") as f:

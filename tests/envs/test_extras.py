@@ -52,6 +52,7 @@ def test_making_a_robosuite_id_without_the_extra_names_it(no_robosuite):
 def test_an_unknown_extra_is_refused():
     spec = unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"]
     with pytest.raises(
-        ValueError, match="unknown extra 'robosuit'; expected one of train, bench, ray, zoo, datasets, robosuite"
+        ValueError,
+        match="unknown extra 'robosuit'; expected one of train, bench, ray, zoo, datasets, robosuite, fast-camera",
     ):
         type(spec)(**{**spec.__dict__, "extra": "robosuit"})

@@ -34,6 +34,7 @@ FIELD_VALUES = {
     "observation_delay": 1,
     "camera": "front",
     "image_size": 24,
+    "camera_meshes": "decimated",
     "randomization": "all",
 }
 

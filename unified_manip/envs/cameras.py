@@ -14,15 +14,21 @@ off too). ``env.render()`` for people keeps the full look (:mod:`.rendering`).
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from unified_manip.envs.rendering import SceneOptions, track
+from unified_manip.extras import MissingExtra
 
 #: The image groups an observation design may add beside its vector groups.
 IMAGE_GROUPS: tuple[str, ...] = ("rgb", "depth")
+
+#: ``camera_meshes``: the visual meshes observation cameras draw, ``"full"`` or
+#: ``"decimated"`` (about 5% of the faces, :mod:`unified_manip.envs.mesh_lod`).
+CAMERA_MESHES: tuple[str, ...] = ("full", "decimated")
 
 #: ``image_size`` when none is given, pixels (square frames).
 DEFAULT_IMAGE_SIZE = 84
@@ -84,6 +90,12 @@ def validate_image_size(value: Any) -> None:
         raise ValueError(f"image_size must be a positive int (pixels), got {value!r}")
 
 
+def validate_camera_meshes(value: Any) -> None:
+    """``ValueError`` unless ``value`` is one of :data:`CAMERA_MESHES`."""
+    if value not in CAMERA_MESHES:
+        raise ValueError(f"unknown camera_meshes {value!r}; expected one of {_choices(CAMERA_MESHES)}")
+
+
 def split_images(observation: str | Sequence[str]) -> tuple[str | tuple[str, ...], tuple[str, ...]]:
     """An observation design's vector part (a preset or groups) and its image groups.
 
@@ -128,16 +140,20 @@ class ImageSensor:
 
     Built with MuJoCo's own ``mujoco.Renderer`` on first use (its GL context is made with
     the camera's multisampling and shadow map size; the model's values are restored
-    after), dropped when pickled.
+    after), dropped when pickled. With ``meshes="decimated"`` the GL context holds
+    simplified meshes (:func:`~unified_manip.envs.mesh_lod.decimated_meshes`; the
+    model's own are restored once it is made).
 
     Args:
         groups: The image groups to draw, a subset of :data:`IMAGE_GROUPS`.
         camera: The camera's config.
         size: Side of the square frames, pixels.
+        meshes: One of :data:`CAMERA_MESHES`.
     """
 
-    def __init__(self, groups: tuple[str, ...], camera: CameraConfig, size: int) -> None:
-        self.groups, self.camera, self.size = groups, camera, size
+    def __init__(self, groups: tuple[str, ...], camera: CameraConfig, size: int, meshes: str = "full") -> None:
+        validate_camera_meshes(meshes)
+        self.groups, self.camera, self.size, self.meshes = groups, camera, size, meshes
         self._renderer: Any = None
         self._option: Any = None
         self._view: Any = None
@@ -146,8 +162,10 @@ class ImageSensor:
         """The images of the current state, by group name."""
         if self._renderer is None:
             self._build(model)
+        import mujoco
+
         r = self._renderer
-        r.update_scene(data, camera=self._view, scene_option=self._option)
+        mujoco.mjv_updateScene(model, data, self._option, None, self._view, mujoco.mjtCatBit.mjCAT_ALL, r.scene)
         self._apply_flags()
         out: dict[str, np.ndarray] = {}
         if "rgb" in self.groups:
@@ -179,7 +197,10 @@ class ImageSensor:
         if s.shadow_size is not None:
             vis.quality.shadowsize = s.shadow_size
         try:
-            self._renderer = mujoco.Renderer(model, self.size, self.size, max_geom=scene.max_geom)
+            with self._meshes(model):  # the GL context uploads the meshes as it is made
+                self._renderer = mujoco.Renderer(model, self.size, self.size, max_geom=scene.max_geom)
+        except MissingExtra:
+            raise
         except Exception as err:  # EGL / OSMesa / GLFW each fail in their own way
             raise RendererUnavailable(
                 f"image observations need an OpenGL renderer, and none could start "
@@ -193,17 +214,27 @@ class ImageSensor:
         for group in scene.hidden_geom_groups:
             option.geomgroup[group] = 0
         self._option = option
+        view = mujoco.MjvCamera()
         if scene.camera is not None:
-            self._view = scene.camera
+            view.type = mujoco.mjtCamera.mjCAMERA_FIXED
+            view.fixedcamid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, scene.camera)
+            if view.fixedcamid < 0:
+                raise ValueError(f"the model has no camera {scene.camera!r}")
         else:
-            view = mujoco.MjvCamera()
             mujoco.mjv_defaultFreeCamera(model, view)
             for key, value in (scene.free_camera or {}).items():
                 if key == "lookat":
                     view.lookat[:] = value
                 else:
                     setattr(view, key, value)
-            self._view = view
+        self._view = view
+
+    def _meshes(self, model) -> Any:
+        if self.meshes == "decimated":
+            from unified_manip.envs.mesh_lod import decimated_meshes
+
+            return decimated_meshes(model)
+        return contextlib.nullcontext(model)
 
     def close(self) -> None:
         if self._renderer is not None:
@@ -222,7 +253,11 @@ def image_sensor(config: Any, cameras: Mapping[str, CameraConfig], task_id: str)
     if not images:
         return None
     name = resolve_camera(config.camera, cameras, task_id)
-    return ImageSensor(images, cameras[name], config.image_size)
+    if config.camera_meshes == "decimated":
+        from unified_manip.envs.mesh_lod import require_simplifier
+
+        require_simplifier()  # at gym.make, not at the first frame
+    return ImageSensor(images, cameras[name], config.image_size, config.camera_meshes)
 
 
 def observation_box(key: str, value: np.ndarray) -> Any:

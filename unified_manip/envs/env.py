@@ -47,6 +47,8 @@ class UnifiedManipEnv(GoalEnv):
         observation_delay: ``observation`` of this many steps earlier (goals stay exact).
         camera: The camera of the ``"rgb"`` / ``"depth"`` image groups (the task's first if None).
         image_size: Side of the square images in pixels (84).
+        camera_meshes: ``"full"`` or ``"decimated"`` visual meshes for the image groups
+            (``render()`` always draws the full ones).
         randomization: Domain randomisation: a preset (``"none"``, ``"dynamics"``,
             ``"objects"``, ``"visual"``, ``"all"``, optionally ``:extreme``) or a list of
             terms (:mod:`unified_manip.envs.randomization`).
