@@ -45,6 +45,18 @@ def positive_int(value: str) -> int:
     return n
 
 
+def randomization_preset(value: str) -> str:
+    """A ``randomization`` preset (``none``, ``dynamics``, ``objects``, ``visual``, ``all``,
+    joined by ``+``, each optionally ``:extreme`` or ``:in-range``), as run names spell it."""
+    from unified_manip.envs.randomization import preset_terms, randomization_label
+
+    try:
+        preset_terms(value)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err).replace(", or a list of terms", "")) from None
+    return randomization_label(value)
+
+
 def env_kwarg(value: str) -> tuple[str, object]:
     import yaml
 

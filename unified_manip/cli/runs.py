@@ -9,10 +9,11 @@ import signal
 import sys
 from pathlib import Path
 
-from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_id, task_ids
+from unified_manip.cli.args import env_kwarg, figure_path, positive_int, randomization_preset, task_id, task_ids
 from unified_manip.cli.output import write_json
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
+from unified_manip.envs.randomization import TEST_DISTRIBUTIONS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
 from unified_manip.training.algorithms import ALGOS
@@ -63,6 +64,14 @@ def add_commands(sub) -> None:
         help="observation design: a preset (default, minimal, relative, full) or groups separated by commas "
         "(see unified-manip list --doc ID); a non-default design is part of the default run directory's name",
     )
+    p.add_argument(
+        "--randomization",
+        type=randomization_preset,
+        metavar="PRESET",
+        help="domain randomisation of the training envs (the training distribution): none (the nominal task, "
+        "the default), dynamics, objects, visual or all, joined by '+' (dynamics+objects); recorded in "
+        "config.yaml's env_kwargs and, unless none, part of the default run directory's name",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
         "--device",
@@ -90,6 +99,7 @@ def add_commands(sub) -> None:
     p.add_argument(
         "--observation-delay", type=int, help="observe k steps late (robustness; default: the run's own, usually 0)"
     )
+    add_test_distribution(p)
     p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
     p.add_argument("--json", help="also write the result to this JSON file")
     p.add_argument("--device", choices=DEVICES, default="auto", help="auto (CUDA when torch sees a GPU), cpu or cuda")
@@ -163,6 +173,27 @@ def add_commands(sub) -> None:
     p.set_defaults(func=cmd_plot)
 
 
+def add_test_distribution(p: argparse.ArgumentParser, several: bool = False) -> None:
+    """``--randomization`` and ``--test-distribution`` of ``eval`` (one distribution) and
+    ``robustness`` (``several``)."""
+    p.add_argument(
+        "--randomization",
+        type=randomization_preset,
+        metavar="PRESET",
+        help="the preset whose ranges the test distributions take (none, dynamics, objects, visual or all, "
+        "joined by '+'); default: the run's own training randomization. Without --test-distribution, "
+        "the randomization to evaluate under, as given (a ':extreme' suffix included)",
+    )
+    p.add_argument(
+        "--test-distribution",
+        choices=TEST_DISTRIBUTIONS,
+        nargs="+" if several else None,
+        help="evaluate on the nominal task (default), on the preset's training ranges (in-range) or on ranges "
+        "beyond them (extreme); "
+        + ("each one given is a condition" if several else "default: the run's own training distribution"),
+    )
+
+
 def cmd_train(args: argparse.Namespace) -> int:
     from unified_manip.training.train import TrainRequest, train
 
@@ -177,7 +208,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         vec=args.vec,
         run_dir=Path(args.run_dir) if args.run_dir else None,
         overrides=tuple(args.set or ()) + ((f"demonstrations={args.demonstrations}",) if args.demonstrations else ()),
-        env_kwargs={**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})},
+        env_kwargs=_train_env_kwargs(args),
         device=args.device,
         restart=args.restart,
     )
@@ -186,6 +217,18 @@ def cmd_train(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         return 130
     return 0
+
+
+def _train_env_kwargs(args: argparse.Namespace) -> dict:
+    """``train``'s env keyword arguments: ``--env-kwarg``, then ``--observation`` and
+    ``--randomization`` (``none`` is left out, so a nominal run's config.yaml reads as
+    every run's from before randomisation)."""
+    kwargs = {**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})}
+    if args.randomization is not None:
+        kwargs.pop("randomization", None)
+        if args.randomization != "none":
+            kwargs["randomization"] = args.randomization
+    return kwargs
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
@@ -201,10 +244,14 @@ def cmd_eval(args: argparse.Namespace) -> int:
         observation_delay=args.observation_delay,
         video=Path(args.video) if args.video else None,
         device=args.device,
+        randomization=args.randomization,
+        test_distribution=args.test_distribution,
     )
+    shown = f" ({result.test_distribution})" if result.test_distribution else ""
     print(
         f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
         f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
+        f"; randomization {result.randomization}{shown}"
     )
     if args.json:
         write_json(args.json, result.as_dict())
