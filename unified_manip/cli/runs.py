@@ -1,5 +1,5 @@
 """The experiment subcommands of ``unified-manip``: ``train``, ``eval``, ``bench``,
-``report`` and ``plot``, each with its arguments beside it."""
+``report`` and ``plot``, each with its arguments beside it (``robustness``: :mod:`.robustness`)."""
 
 from __future__ import annotations
 
@@ -9,11 +9,19 @@ import signal
 import sys
 from pathlib import Path
 
-from unified_manip.cli.args import env_kwarg, figure_path, positive_int, randomization_preset, task_id, task_ids
+from unified_manip.cli.args import (
+    add_test_distribution,
+    env_kwarg,
+    figure_path,
+    positive_int,
+    randomization_preset,
+    task_id,
+    task_ids,
+)
 from unified_manip.cli.output import write_json
+from unified_manip.cli.robustness import add_robustness
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
-from unified_manip.envs.randomization import TEST_DISTRIBUTIONS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.envs.vector.factory import VEC_KINDS
 from unified_manip.training.algorithms import ALGOS
@@ -143,14 +151,7 @@ def add_commands(sub) -> None:
     p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
     p.set_defaults(func=cmd_report)
 
-    p = sub.add_parser("robustness", help="evaluate a bench's final policies under observation noise and delay")
-    p.add_argument("bench", help="a bench's output directory (its runs/ with their final models)")
-    p.add_argument("--noise", type=float, nargs="+", default=[0.0, 0.005, 0.01], help="noise stds (default 0 .005 .01)")
-    p.add_argument("--delay", type=positive_int, nargs="*", default=[1], help="delays in steps (default 1)")
-    p.add_argument("--episodes", type=positive_int, default=50, help="evaluation episodes per run and condition")
-    p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_robustness)
+    add_robustness(sub)
 
     p = sub.add_parser(
         "plot", help="one figure of success against steps (or demonstrations) over benches, a panel per task"
@@ -171,27 +172,6 @@ def add_commands(sub) -> None:
         "the demonstration episodes each run learned from (benches of one grid at several dataset sizes)",
     )
     p.set_defaults(func=cmd_plot)
-
-
-def add_test_distribution(p: argparse.ArgumentParser, several: bool = False) -> None:
-    """``--randomization`` and ``--test-distribution`` of ``eval`` (one distribution) and
-    ``robustness`` (``several``)."""
-    p.add_argument(
-        "--randomization",
-        type=randomization_preset,
-        metavar="PRESET",
-        help="the preset whose ranges the test distributions take (none, dynamics, objects, visual or all, "
-        "joined by '+'); default: the run's own training randomization. Without --test-distribution, "
-        "the randomization to evaluate under, as given (a ':extreme' suffix included)",
-    )
-    p.add_argument(
-        "--test-distribution",
-        choices=TEST_DISTRIBUTIONS,
-        nargs="+" if several else None,
-        help="evaluate on the nominal task (default), on the preset's training ranges (in-range) or on ranges "
-        "beyond them (extreme); "
-        + ("each one given is a condition" if several else "default: the run's own training distribution"),
-    )
 
 
 def cmd_train(args: argparse.Namespace) -> int:
@@ -321,16 +301,6 @@ def cmd_report(args: argparse.Namespace) -> int:
         dense_check=not args.no_dense_check,
         claims=claims,
     )
-    print(f"wrote {path}")
-    return 0
-
-
-def cmd_robustness(args: argparse.Namespace) -> int:
-    from unified_manip.experiments.robustness import conditions, evaluate_bench
-
-    wanted = conditions(tuple(args.noise), tuple(args.delay))
-    log = None if args.no_progress else (lambda line: print(line, file=sys.stderr, flush=True))
-    path = evaluate_bench(Path(args.bench), wanted, args.episodes, args.seed, progress=log)
     print(f"wrote {path}")
     return 0
 
