@@ -10,7 +10,7 @@ it is done, so an interrupted pass resumes where it stopped. The report reads th
 units (metres for positions, radians for joint angles); a condition's noise and delay replace
 the run's own, and the rest of its design (groups, distractors) stays. A condition's test
 distribution replaces the run's training randomisation
-(:func:`~unified_manip.training.evaluation.tested_randomization`: the ranges come from
+(:func:`~unified_manip.training.evaluation.evaluated_randomization`: the ranges come from
 ``--randomization`` or the run's own preset); without one the run's own stays. Each row
 records the run's training randomisation, the distribution and the randomisation it was
 tested under; a ``robustness.csv`` written before these columns reads as ``none``.
@@ -142,7 +142,7 @@ def evaluate_bench(
     """Evaluate every finished run of ``bench`` under each condition not yet in its
     ``robustness.csv``; return the file's path. ``randomization``: the preset whose ranges
     the test distributions take (default: each run's own training preset)."""
-    from unified_manip.training.evaluation import evaluate, tested_randomization
+    from unified_manip.training.evaluation import evaluate, evaluated_randomization
     from unified_manip.training.request import TrainError
     from unified_manip.training.rundir import read_config
 
@@ -166,7 +166,7 @@ def evaluate_bench(
         trained = read_config(d)["env_kwargs"].get("randomization")
         for c in wanted:
             try:
-                tested = tested_randomization(trained, randomization, c.distribution or None)
+                tested = evaluated_randomization(trained, randomization, c.distribution or None)
             except TrainError as err:
                 raise RobustnessError(f"{d.name}: {err}") from None
             if (d.name, c.noise, c.delay, c.distribution, randomization_label(tested)) not in done:

@@ -133,7 +133,7 @@ def evaluate(
     cannot be evaluated in an action mode it was not trained in. ``observation_noise`` and
     ``observation_delay`` replace the run's own, to measure a policy's robustness;
     ``randomization`` and ``test_distribution`` choose the world it is tested in
-    (:func:`tested_randomization`)."""
+    (:func:`evaluated_randomization`)."""
     from scipy.stats import binomtest
 
     from unified_manip.envs.observations import validate_count, validate_noise
@@ -161,7 +161,7 @@ def evaluate(
         raise TrainError(f"--{str(err).replace('_', '-')}") from None
     if randomization is not None or test_distribution is not None:
         trained = rundir.read_config(_run_dir(target)).get("env_kwargs", {}).get("randomization")
-        overrides["randomization"] = tested_randomization(trained, randomization, test_distribution)
+        overrides["randomization"] = evaluated_randomization(trained, randomization, test_distribution)
     if video:
         overrides.update(render_mode="rgb_array", render_width=320, render_height=320)
     policy = open_policy(Path(target), overrides, deterministic, device, action_mode)
@@ -197,7 +197,7 @@ def evaluate(
     )
 
 
-def tested_randomization(trained: Any, preset: str | None, distribution: str | None) -> Any:
+def evaluated_randomization(trained: Any, preset: str | None, distribution: str | None) -> Any:
     """The ``randomization`` a policy trained under ``trained`` (its run's value; ``None``:
     ``none``) is evaluated under: ``preset`` where given, else ``trained``; with a
     ``distribution`` (``default``, ``in-range``, ``extreme``: Packer et al. 2018), that
