@@ -131,8 +131,8 @@ def add_commands(sub) -> None:
         "--only",
         action="append",
         metavar="KEY=VALUE",
-        help="train only the runs matching this (task, action_mode, reward_type, algo, seed or observation, the "
-        "design as run names show it; repeatable: "
+        help="train only the runs matching this (task, action_mode, reward_type, algo, seed, observation or "
+        "randomization, as run names show them; repeatable: "
         "values of one key are alternatives, keys must all match); results keep every finished run",
     )
     p.add_argument(
