@@ -18,10 +18,7 @@ def add_robustness(sub) -> None:
     )
     p.add_argument("bench", help="a bench's output directory (its runs/ with their final models)")
     p.add_argument(
-        "--noise",
-        type=float,
-        nargs="+",
-        help="noise stds (default 0 .005 .01; with --test-distribution: 0)",
+        "--noise", type=float, nargs="+", help="noise stds (default 0 .005 .01; with --test-distribution: 0)"
     )
     p.add_argument(
         "--delay", type=positive_int, nargs="*", help="delays in steps (default 1; with --test-distribution: none)"
