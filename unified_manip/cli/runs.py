@@ -227,11 +227,13 @@ def cmd_eval(args: argparse.Namespace) -> int:
         randomization=args.randomization,
         test_distribution=args.test_distribution,
     )
-    shown = f" ({result.test_distribution})" if result.test_distribution else ""
+    world = result.randomization != "none" or result.test_distribution  # the nominal task says nothing more
+    shown = f"; randomization {result.randomization}" if world else ""
+    shown += f" ({result.test_distribution})" if result.test_distribution else ""
     print(
         f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
         f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
-        f"; randomization {result.randomization}{shown}"
+        f"{shown}"
     )
     if args.json:
         write_json(args.json, result.as_dict())
