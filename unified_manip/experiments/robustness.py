@@ -285,7 +285,9 @@ def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> 
     ax.set_xticks(x, heads, fontsize=8)
     ax.set_ylabel("success rate of the final policy")
     ax.set_title(
-        f"{task}: final policies under observation noise and delay\n(mean over seeds, range shaded)", fontsize=9
+        f"{task}: final policies under {'test distributions, ' if any(k.distribution for k in keys) else ''}"
+        "observation noise and delay\n(mean over seeds, range shaded)",
+        fontsize=9,
     )
     return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_robustness.png")
 
