@@ -141,6 +141,27 @@ CASES = {
         lambda t: ["eval", str(t), "--episodes", "0"],
         "unified-manip eval: error: argument --episodes: expected a positive integer, got '0'",
     ),
+    "train randomization preset": (
+        lambda t: TRAIN + ["--randomization", "windy"],
+        "unified-manip train: error: argument --randomization: unknown randomization preset 'windy'; expected one "
+        "of 'none', 'dynamics', 'objects', 'visual', 'all' (joined by '+', each optionally ':extreme' or ':in-range')",
+    ),
+    "eval test distribution": (
+        lambda t: ["eval", str(t), "--test-distribution", "wide"],
+        "unified-manip eval: error: argument --test-distribution: invalid choice: 'wide' (choose from 'default', "
+        "'in-range', 'extreme')",
+    ),
+    "eval test distribution of a nominal run without a preset": (
+        lambda t: ["eval", str(_run(t)), "--test-distribution", "extreme"],
+        "unified-manip eval: error: --test-distribution extreme takes its ranges from a preset, and the run trained "
+        "under none; add --randomization PRESET (dynamics, objects, visual or all, joined by '+')",
+    ),
+    "bench randomizations axis": (
+        lambda t: ["bench", grid(t, randomizations=["none", "windy"])],
+        "unified-manip bench: error: {t}/grid.yaml: unknown randomization preset 'windy'; expected one of 'none', "
+        "'dynamics', 'objects', 'visual', 'all' (joined by '+', each optionally ':extreme' or ':in-range'), or a "
+        "list of terms",
+    ),
     "bench grid missing": (
         lambda t: ["bench", str(t / "nope.yaml")],
         "unified-manip bench: error: grid file {t}/nope.yaml not found",

@@ -514,7 +514,7 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     assert (tmp_path / "report" / "Arm4Reach-v0_final.png").stat().st_size > 10_000
     groups = {}
     for r in _fixture_rows():
-        groups.setdefault((r["algo"], r["action_mode"], r["reward_type"], "default"), []).append(r)
+        groups.setdefault((r["algo"], r["action_mode"], r["reward_type"], "default", "none"), []).append(r)
     bars = final_bars(groups)
     assert [(b.label, round(b.mean, 6), b.values) for b in bars] == [
         ("ee_delta", 0.5, (0.2, 0.4, 0.6, 0.8)),
@@ -522,13 +522,21 @@ def test_report_numbers_match_hand_computed_values(tmp_path):
     ]
     assert f"[{bars[0].low:.2f}, {bars[0].high:.2f}] (range of 4 seeds)" == ee[7]  # the table's interval
     mixed = {
-        ("sac_her", "ee_delta", "sparse", "default"): groups[("sac_her", "ee_delta", "sparse", "default")],
-        ("ppo", "ee_delta", "dense", "default"): groups[("sac_her", "joint_delta", "sparse", "default")],
+        ("sac_her", "ee_delta", "sparse", "default", "none"): groups[
+            ("sac_her", "ee_delta", "sparse", "default", "none")
+        ],
+        ("ppo", "ee_delta", "dense", "default", "none"): groups[
+            ("sac_her", "joint_delta", "sparse", "default", "none")
+        ],
     }
     assert [b.label for b in final_bars(mixed)] == ["sparse / sac_her", "dense / ppo"]
     designs = {
-        ("sac_her", "ee_delta", "sparse", "default"): groups[("sac_her", "ee_delta", "sparse", "default")],
-        ("sac_her", "ee_delta", "sparse", "minimal"): groups[("sac_her", "joint_delta", "sparse", "default")],
+        ("sac_her", "ee_delta", "sparse", "default", "none"): groups[
+            ("sac_her", "ee_delta", "sparse", "default", "none")
+        ],
+        ("sac_her", "ee_delta", "sparse", "minimal", "none"): groups[
+            ("sac_her", "joint_delta", "sparse", "default", "none")
+        ],
     }
     assert [b.label for b in final_bars(designs)] == ["default", "minimal"]
 

@@ -106,6 +106,19 @@ def test_a_dataset_of_another_task_mode_design_or_reward_is_refused(dataset, tas
     assert "\n" not in str(err.value)
 
 
+def test_nominal_episodes_suit_a_run_under_a_preset_only(dataset):
+    """The nominal world is one every preset draws (their ranges hold the nominal values);
+    a list of terms need not hold it, and a run's other env keywords must still match."""
+    assert dataset_demonstrations.check(str(dataset), ARM, {**SPARSE, "randomization": "dynamics+objects"})
+    terms = [{"entity": "object", "field": "mass", "range": [0.05, 0.1], "operation": "abs"}]
+    for config in (
+        {**SPARSE, "randomization": terms},
+        {**SPARSE, "randomization": "objects", "controller_options": {"band": 0.75}},
+    ):
+        with pytest.raises(DemonstrationError, match="was recorded with other env keyword arguments"):
+            dataset_demonstrations.check(str(dataset), ARM, config)
+
+
 def test_convert_fixes_an_observation_mismatch(dataset):
     from unified_manip.datasets.convert import convert
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from unified_manip.envs.randomization import TEST_DISTRIBUTIONS
 from unified_manip.envs.registry import get_task
 
 
@@ -45,6 +46,18 @@ def positive_int(value: str) -> int:
     return n
 
 
+def randomization_preset(value: str) -> str:
+    """A ``randomization`` preset (``none``, ``dynamics``, ``objects``, ``visual``, ``all``,
+    joined by ``+``, each optionally ``:extreme`` or ``:in-range``), as run names spell it."""
+    from unified_manip.envs.randomization import preset_terms, randomization_label
+
+    try:
+        preset_terms(value)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err).replace(", or a list of terms", "")) from None
+    return randomization_label(value)
+
+
 def env_kwarg(value: str) -> tuple[str, object]:
     import yaml
 
@@ -68,3 +81,24 @@ def figure_path(value: str) -> str:
             f"expected a figure path ending in {', '.join(FIGURE_SUFFIXES)}; got {value!r}"
         )
     return value
+
+
+def add_test_distribution(p: argparse.ArgumentParser, several: bool = False) -> None:
+    """``--randomization`` and ``--test-distribution`` of ``eval`` (one distribution) and
+    ``robustness`` (``several``)."""
+    p.add_argument(
+        "--randomization",
+        type=randomization_preset,
+        metavar="PRESET",
+        help="the preset whose ranges the test distributions take (none, dynamics, objects, visual or all, "
+        "joined by '+'); default: the run's own training randomization. Without --test-distribution, "
+        "the randomization to evaluate under, as given (a ':extreme' suffix included)",
+    )
+    p.add_argument(
+        "--test-distribution",
+        choices=TEST_DISTRIBUTIONS,
+        nargs="+" if several else None,
+        help="evaluate on the nominal task (default), on the preset's training ranges (in-range) or on ranges "
+        "beyond them (extreme); "
+        + ("each one given is a condition" if several else "default: the run's own training distribution"),
+    )

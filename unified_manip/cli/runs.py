@@ -1,5 +1,5 @@
 """The experiment subcommands of ``unified-manip``: ``train``, ``eval``, ``bench``,
-``report`` and ``plot``, each with its arguments beside it."""
+``report`` and ``plot``, each with its arguments beside it (``robustness``: :mod:`.robustness`)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,17 @@ import signal
 import sys
 from pathlib import Path
 
-from unified_manip.cli.args import env_kwarg, figure_path, positive_int, task_id, task_ids
+from unified_manip.cli.args import (
+    add_test_distribution,
+    env_kwarg,
+    figure_path,
+    positive_int,
+    randomization_preset,
+    task_id,
+    task_ids,
+)
 from unified_manip.cli.output import write_json
+from unified_manip.cli.robustness import add_robustness
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.rewards import REWARD_TYPES
@@ -63,6 +72,14 @@ def add_commands(sub) -> None:
         help="observation design: a preset (default, minimal, relative, full) or groups separated by commas "
         "(see unified-manip list --doc ID); a non-default design is part of the default run directory's name",
     )
+    p.add_argument(
+        "--randomization",
+        type=randomization_preset,
+        metavar="PRESET",
+        help="domain randomisation of the training envs (the training distribution): none (the nominal task, "
+        "the default), dynamics, objects, visual or all, joined by '+' (dynamics+objects); recorded in "
+        "config.yaml's env_kwargs and, unless none, part of the default run directory's name",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
         "--device",
@@ -90,6 +107,7 @@ def add_commands(sub) -> None:
     p.add_argument(
         "--observation-delay", type=int, help="observe k steps late (robustness; default: the run's own, usually 0)"
     )
+    add_test_distribution(p)
     p.add_argument("--video", help="write the first episodes to this .mp4 or .gif")
     p.add_argument("--json", help="also write the result to this JSON file")
     p.add_argument("--device", choices=DEVICES, default="auto", help="auto (CUDA when torch sees a GPU), cpu or cuda")
@@ -113,8 +131,8 @@ def add_commands(sub) -> None:
         "--only",
         action="append",
         metavar="KEY=VALUE",
-        help="train only the runs matching this (task, action_mode, reward_type, algo, seed or observation, the "
-        "design as run names show it; repeatable: "
+        help="train only the runs matching this (task, action_mode, reward_type, algo, seed, observation or "
+        "randomization, as run names show them; repeatable: "
         "values of one key are alternatives, keys must all match); results keep every finished run",
     )
     p.add_argument(
@@ -133,14 +151,7 @@ def add_commands(sub) -> None:
     p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
     p.set_defaults(func=cmd_report)
 
-    p = sub.add_parser("robustness", help="evaluate a bench's final policies under observation noise and delay")
-    p.add_argument("bench", help="a bench's output directory (its runs/ with their final models)")
-    p.add_argument("--noise", type=float, nargs="+", default=[0.0, 0.005, 0.01], help="noise stds (default 0 .005 .01)")
-    p.add_argument("--delay", type=positive_int, nargs="*", default=[1], help="delays in steps (default 1)")
-    p.add_argument("--episodes", type=positive_int, default=50, help="evaluation episodes per run and condition")
-    p.add_argument("--seed", type=int, default=123, help="episode k is reset with seed + k")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_robustness)
+    add_robustness(sub)
 
     p = sub.add_parser(
         "plot", help="one figure of success against steps (or demonstrations) over benches, a panel per task"
@@ -177,7 +188,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         vec=args.vec,
         run_dir=Path(args.run_dir) if args.run_dir else None,
         overrides=tuple(args.set or ()) + ((f"demonstrations={args.demonstrations}",) if args.demonstrations else ()),
-        env_kwargs={**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})},
+        env_kwargs=_train_env_kwargs(args),
         device=args.device,
         restart=args.restart,
     )
@@ -186,6 +197,18 @@ def cmd_train(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         return 130
     return 0
+
+
+def _train_env_kwargs(args: argparse.Namespace) -> dict:
+    """``train``'s env keyword arguments: ``--env-kwarg``, then ``--observation`` and
+    ``--randomization`` (``none`` is left out, so a nominal run's config.yaml reads as
+    every run's from before randomisation)."""
+    kwargs = {**dict(args.env_kwarg or ()), **({"observation": args.observation} if args.observation else {})}
+    if args.randomization is not None:
+        kwargs.pop("randomization", None)
+        if args.randomization != "none":
+            kwargs["randomization"] = args.randomization
+    return kwargs
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
@@ -201,10 +224,16 @@ def cmd_eval(args: argparse.Namespace) -> int:
         observation_delay=args.observation_delay,
         video=Path(args.video) if args.video else None,
         device=args.device,
+        randomization=args.randomization,
+        test_distribution=args.test_distribution,
     )
+    world = result.randomization != "none" or result.test_distribution  # the nominal task says nothing more
+    shown = f"; randomization {result.randomization}" if world else ""
+    shown += f" ({result.test_distribution})" if result.test_distribution else ""
     print(
         f"success rate {result.success_rate:.3f} (95% CI {result.ci_low:.3f}-{result.ci_high:.3f}, "
         f"{result.successes}/{result.episodes} episodes); mean return {result.mean_return:.2f} ± {result.std_return:.2f}"
+        f"{shown}"
     )
     if args.json:
         write_json(args.json, result.as_dict())
@@ -274,16 +303,6 @@ def cmd_report(args: argparse.Namespace) -> int:
         dense_check=not args.no_dense_check,
         claims=claims,
     )
-    print(f"wrote {path}")
-    return 0
-
-
-def cmd_robustness(args: argparse.Namespace) -> int:
-    from unified_manip.experiments.robustness import conditions, evaluate_bench
-
-    wanted = conditions(tuple(args.noise), tuple(args.delay))
-    log = None if args.no_progress else (lambda line: print(line, file=sys.stderr, flush=True))
-    path = evaluate_bench(Path(args.bench), wanted, args.episodes, args.seed, progress=log)
     print(f"wrote {path}")
     return 0
 

@@ -93,15 +93,19 @@ def mode_scores(rows: list[dict[str, Any]], factor: str = "action_mode") -> Mode
     """The score matrices of one setting's rows (see :class:`ModeScores`), comparing the
     values of ``factor`` (a key of :data:`FACTORS`). Its problems are the tasks; where the
     rows' other factor varies within a task, each (task, other factor) pair is a problem of its own,
-    named ``"<task> (<value>)"``: observation designs on tasks run in different action modes."""
+    named ``"<task> (<value>)"``: observation designs on tasks run in different action modes.
+    Rows of several training randomisations make each (problem, randomisation) a problem of
+    its own, ``"<task> [randomization <preset>]"``."""
     other = FACTORS[factor]
     values: dict[str, set[str]] = defaultdict(set)
     for r in rows:
         values[r["task"]].add(r.get(other) or "default")
     split = any(len(v) > 1 for v in values.values())
+    randomized = len({r.get("randomization") or "none" for r in rows}) > 1
 
     def problem(r: dict[str, Any]) -> str:
-        return f"{r['task']} ({r.get(other) or 'default'})" if split else r["task"]
+        name = f"{r['task']} ({r.get(other) or 'default'})" if split else r["task"]
+        return f"{name} [randomization {r.get('randomization') or 'none'}]" if randomized else name
 
     cells: dict[str, dict[str, list[dict[str, Any]]]] = defaultdict(lambda: defaultdict(list))
     for r in rows:

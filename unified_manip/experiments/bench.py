@@ -16,6 +16,7 @@ algorithms x seeds, the budget and the evaluation schedule::
     n_eval_episodes: 20
     overrides: {sac_her: [learning_starts=500]}   # optional, per algorithm
     env_kwargs: {controller_options: {band: 0.75}}  # optional: extra gym.make arguments, every run
+    randomizations: [none, dynamics]  # optional: training randomisation presets crossed with the rest
     only:                          # optional: keep just the combinations matching an entry
       - {algo: ppo, reward_type: sparse}
     targets:                       # optional: final success the report checks

@@ -30,9 +30,9 @@ def interval_label(seed_counts) -> str:
 
 
 #: A group key is :data:`~unified_manip.experiments.results.SETTING`; labels name its parts in
-#: this order of the key's indices (action mode, observation, reward, algo): what a reader
-#: compares first.
-_LABEL_ORDER = (1, 3, 2, 0)
+#: this order of the key's indices (action mode, observation, reward, algo, randomisation):
+#: what a reader compares first. A label with nothing varying names the first four.
+_LABEL_ORDER = (1, 3, 2, 0, 4)
 
 
 class Bar(NamedTuple):
@@ -122,7 +122,7 @@ def save_success_figure(fig, ax, path: Path) -> Path:
 def final_bars(groups: dict) -> list[Bar]:
     """Each setting's final success, best mean first; labels name only the parts of the
     settings that differ (all of them if none does)."""
-    varying = [i for i in _LABEL_ORDER if len({key[i] for key in groups}) > 1] or list(_LABEL_ORDER)
+    varying = [i for i in _LABEL_ORDER if len({key[i] for key in groups}) > 1] or list(_LABEL_ORDER[:4])
     bars = []
     for key, runs in groups.items():
         values = tuple(r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"]))

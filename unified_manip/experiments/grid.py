@@ -13,6 +13,7 @@ from unified_manip.envs.design_names import design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.experiments.designs import check_design, parse_designs
+from unified_manip.experiments.randomizations import check_randomization, grid_randomizations
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
@@ -31,6 +32,7 @@ OPTIONAL = (
     "targets",
     "env_kwargs",
     "observations",
+    "randomizations",
     "cell_overrides",
 )
 ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
@@ -52,10 +54,13 @@ class RunSpec:
     n_envs: int | None = None  # None: the hyperparameter file's n_envs, else 1
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # extra gym.make keyword arguments
     observation: str = "default"  # the design's label (design_label); the design is in env_kwargs
+    randomization: str = "none"  # the training preset (randomization_label); in env_kwargs unless none
 
     @property
     def name(self) -> str:
-        return run_name(self.task, self.action_mode, self.reward_type, self.algo, self.seed, self.observation)
+        return run_name(
+            self.task, self.action_mode, self.reward_type, self.algo, self.seed, self.observation, self.randomization
+        )
 
 
 @dataclass(frozen=True)
@@ -170,6 +175,10 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
         observations = parse_designs(doc.get("observations", ["default"]))
     except ValueError as err:
         raise GridError(f"{path}: {err}") from None
+    try:
+        randomizations = grid_randomizations(doc, env_kwargs)
+    except ValueError as err:
+        raise GridError(f"{path}: {err}") from None
     only = doc.get("only")
     if only is not None:
         if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
@@ -179,14 +188,14 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
     cell_overrides = _cell_overrides(path, doc.get("cell_overrides", []))
     runs = []
     checked: set[tuple[str, str]] = set()
-    for t, r, a, s, o in itertools.product(tasks, rewards, algos, seeds, observations):
+    for t, r, a, s, o, z in itertools.product(tasks, rewards, algos, seeds, observations, randomizations):
         for m in TASKS[t].action_modes if modes_value == "all" else modes:
             combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
             if only is not None and not any(_matches(combo, e) for e in only):
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
             sets += tuple(v for cell, values in cell_overrides if _matches(combo, cell) for v in values)
-            kwargs = {**env_kwargs, **o}
+            kwargs = {**env_kwargs, **o, **({"randomization": z} if z != "none" and "randomizations" in doc else {})}
             try:  # every hyperparameter override is checked before anything starts
                 resolved = resolve_run(a, t, sets, action_mode=m)
                 run = replace(resolved.run, n_envs=n_envs[a] or resolved.run.n_envs)
@@ -199,9 +208,12 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
                 if (t, design_label(o)) not in checked:  # the task's groups (one backend per task)
                     check_design(t, m, o)
                     checked.add((t, design_label(o)))
+                if (t, z) not in checked:  # a preset with no term the task takes fails here, not in a run
+                    check_randomization(t, m, kwargs.get("randomization", "none"))
+                    checked.add((t, z))
             except (TypeError, ValueError) as err:
                 raise GridError(f"{path}: {err}") from None
-            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design_label(kwargs)))
+            runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design_label(kwargs), z))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
     return Grid(name, tuple(runs), doc)
@@ -235,7 +247,7 @@ def _plain_name(name: object) -> bool:
     return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
 
 
-SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed", "observation")
+SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed", "observation", "randomization")
 
 
 def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:

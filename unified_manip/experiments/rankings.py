@@ -1,5 +1,5 @@
-"""The report's per-task rankings: of action modes, of observation designs, and of algorithm
-and reward settings, each with rliable's probability that the best beats the others.
+"""The report's per-task rankings: of action modes, of observation designs, of training
+randomisations, and of algorithm and reward settings, each with rliable's probability that the best beats the others.
 
 A ranking compares the settings of one task that differ in one thing and share the rest;
 groups are keyed by :data:`~unified_manip.experiments.results.SETTING`.
@@ -14,7 +14,7 @@ import numpy as np
 
 from unified_manip.experiments.stats import probability_of_improvement
 
-Groups = dict[str, dict[tuple[str, str, str, str], list[dict[str, Any]]]]
+Groups = dict[str, dict[tuple[str, str, str, str, str], list[dict[str, Any]]]]
 
 
 def _finals(runs: list[dict[str, Any]]) -> list[float]:
@@ -33,36 +33,41 @@ def _by_factor(by_task: Groups, index: int, title: str, column: str) -> list[str
             if len(values) < 2:
                 continue
             full = shared[:index] + ("",) + shared[index:]
-            algo, mode, reward, design = full
+            algo, mode, reward, design, randomization = full
             where = [algo, *([mode] if index != 1 else []), f"{reward} reward"]
             if index != 3 and design != "default":
                 where.append(f"observation {design}")
+            if index != 4 and randomization != "none":
+                where.append(f"randomization {randomization}")
             lines += [f"**{task.split('/')[-1]}**, {', '.join(where)}:", ""]
             lines += ranking_table([column], {(v,): vals for v, vals in values.items()})
     return [f"## Ranking of {title}", "", *lines] if lines else []
 
 
 def design_rankings(by_task: Groups) -> list[str]:
-    """Markdown lines: the rankings of action modes and of observation designs, where a task
-    ran several with the rest of the setting the same."""
-    return _by_factor(by_task, 1, "action modes", "action mode") + _by_factor(
-        by_task, 3, "observation designs", "observation design"
+    """Markdown lines: the rankings of action modes, of observation designs and of training
+    randomisations, where a task ran several with the rest of the setting the same."""
+    return (
+        _by_factor(by_task, 1, "action modes", "action mode")
+        + _by_factor(by_task, 3, "observation designs", "observation design")
+        + _by_factor(by_task, 4, "training randomisations", "training randomization")
     )
 
 
 def config_rankings(by_task: Groups) -> list[str]:
     """Markdown lines: the ranking of algorithm and reward settings on each task that ran one
-    action mode and one observation design."""
+    action mode, one observation design and one training randomisation."""
     lines: list[str] = []
-    single = {t: g for t, g in by_task.items() if len({(k[1], k[3]) for k in g}) == 1 and len(g) > 1}
+    single = {t: g for t, g in by_task.items() if len({(k[1], k[3], k[4]) for k in g}) == 1 and len(g) > 1}
     if single:
         lines += ["## Ranking of algorithm and reward settings", ""]
         for task, groups in single.items():
-            _, mode, _, design = next(iter(groups))
+            _, mode, _, design, randomization = next(iter(groups))
             suffix = "" if design == "default" else f", observation {design}"
+            suffix += "" if randomization == "none" else f", randomization {randomization}"
             lines += [f"**{task.split('/')[-1]}**, {mode} mode{suffix}:", ""]
             lines += ranking_table(
-                ["algo", "reward"], {(algo, reward): _finals(runs) for (algo, _, reward, _), runs in groups.items()}
+                ["algo", "reward"], {(algo, reward): _finals(runs) for (algo, _, reward, *_), runs in groups.items()}
             )
     return lines
 

@@ -165,19 +165,20 @@ def build_report(
     targets = grid_targets(grid_file)
     lines += ["## Final success rate", ""]
     designs = any(r["observation"] != "default" for r in rows)  # a column only where some run has one
+    randomized = any(r["randomization"] != "none" for r in rows)
     lines += [
-        f"| task | algo | action mode |{' observation |' if designs else ''} reward | seeds | mean | interval | "
-        "IQM [95% CI] | per seed |",
-        f"|---|---|---|{'---|' if designs else ''}---|---:|---:|---|---|---|",
+        f"| task | algo | action mode |{' observation |' if designs else ''} reward |"
+        f"{' randomization |' if randomized else ''} seeds | mean | interval | IQM [95% CI] | per seed |",
+        f"|---|---|---|{'---|' if designs else ''}---|{'---|' if randomized else ''}---:|---:|---|---|---|",
     ]
     for task, groups in by_task.items():
-        for (algo, mode, reward, design), runs in sorted(groups.items()):
+        for (algo, mode, reward, design, randomization), runs in sorted(groups.items()):
             vals = [r["final_success_rate"] for r in sorted(runs, key=lambda r: r["seed"])]
             iqm = iqm_with_ci(vals)
             iqm_s = f"{iqm[0]:.2f} [{iqm[1]:.2f}, {iqm[2]:.2f}]" if iqm else f"— (under {MIN_SEEDS_FOR_CI} seeds)"
             lines.append(
-                f"| {task.split('/')[-1]} | {algo} | {mode} |{f' {design} |' if designs else ''} {reward} | "
-                f"{len(vals)} | {np.mean(vals):.2f} | "
+                f"| {task.split('/')[-1]} | {algo} | {mode} |{f' {design} |' if designs else ''} {reward} |"
+                f"{f' {randomization} |' if randomized else ''} {len(vals)} | {np.mean(vals):.2f} | "
                 f"{seed_interval(vals).text() or '—'} | {iqm_s} | {', '.join(f'{v:.2f}' for v in vals)} |"
             )
     lines.append("")

@@ -13,6 +13,7 @@ import numpy as np
 import yaml
 
 from unified_manip.envs.design_names import design_label
+from unified_manip.envs.randomization.presets import randomization_label
 from unified_manip.training.rundir import CONFIG, read_status
 from unified_manip.training.settings import demonstration_record
 
@@ -35,12 +36,13 @@ RESULT_COLUMNS = (
 #: demonstration settings under their hyperparameter names), JSON or "". Read back with
 #: every setting under its own name (older records' names are mapped, defaults filled in).
 #: ``observation``: the run's observation design (``design_label``); "" in older
-#: files, which is the default design.
-OPTIONAL_COLUMNS = ("demonstrations", "observation")
+#: files, which is the default design. ``randomization``: the run's training
+#: randomisation (``randomization_label``); "" in older files, which is ``none``.
+OPTIONAL_COLUMNS = ("demonstrations", "observation", "randomization")
 
 
 #: A setting's key: what its runs share besides the task and the seed. Reports group by it.
-SETTING = ("algo", "action_mode", "reward_type", "observation")
+SETTING = ("algo", "action_mode", "reward_type", "observation", "randomization")
 
 
 def budget_unit(row: dict[str, Any]) -> str:
@@ -55,16 +57,25 @@ def steps_label(rows: Any) -> str:
     return units[0] if len(units) == 1 else "environment steps (RL) or gradient steps (bc)"
 
 
-def setting_key(row: dict[str, Any]) -> tuple[str, str, str, str]:
-    """A row's (algo, action mode, reward type, observation design), as :data:`SETTING`."""
-    return (row["algo"], row["action_mode"], row["reward_type"], row.get("observation") or "default")
+def setting_key(row: dict[str, Any]) -> tuple[str, str, str, str, str]:
+    """A row's (algo, action mode, reward type, observation design, training randomisation),
+    as :data:`SETTING`."""
+    return (
+        row["algo"],
+        row["action_mode"],
+        row["reward_type"],
+        row.get("observation") or "default",
+        row.get("randomization") or "none",
+    )
 
 
-def setting_label(key: tuple[str, str, str, str]) -> str:
-    """``mode / reward / algo``, with the design after the mode unless it is the default."""
-    algo, mode, reward, observation = key
+def setting_label(key: tuple[str, str, str, str, str]) -> str:
+    """``mode / reward / algo``, with the design after the mode unless it is the default,
+    and the training randomisation last unless it is ``none``."""
+    algo, mode, reward, observation, randomization = key
     design = "" if observation == "default" else f" / {observation}"
-    return f"{mode}{design} / {reward} / {algo}"
+    rand = "" if randomization == "none" else f" / randomization {randomization}"
+    return f"{mode}{design} / {reward} / {algo}{rand}"
 
 
 class ResultsError(ValueError):
@@ -103,6 +114,7 @@ def collect_row(run_dir: Path) -> dict[str, Any] | None:
         "versions": json.dumps(config["versions"], sort_keys=True),
         "demonstrations": _demonstrations(run_dir),
         "observation": design_label(config["env_kwargs"]),
+        "randomization": randomization_label(config["env_kwargs"].get("randomization")),
     }
 
 
@@ -148,6 +160,7 @@ def read_results(path: Path) -> list[dict[str, Any]]:
             record = json.loads(r.get("demonstrations") or "null")
             r["demonstrations"] = demonstration_record(record) if record else None
             r["observation"] = r.get("observation") or "default"
+            r["randomization"] = r.get("randomization") or "none"
         except (TypeError, ValueError) as err:
             raise ResultsError(f"{path}:{line}: malformed row ({err})") from None
     return rows

@@ -1,5 +1,6 @@
 """``unified-manip robustness BENCH``: every finished run's final policy evaluated again
-under observation noise and delay, without retraining (issue 41's study, item 5).
+under observation noise and delay, and on test distributions of domain randomisation
+(``default``, ``in-range``, ``extreme``: Packer et al. 2018), without retraining.
 
 Each (run, condition) is evaluated with :func:`~unified_manip.training.evaluation.evaluate`
 on the run's ``final_model.zip`` (the policy the run ended with, not its best checkpoint),
@@ -7,7 +8,12 @@ its own env settings otherwise, and written to ``BENCH/robustness.csv`` atomical
 it is done, so an interrupted pass resumes where it stopped. The report reads the file
 (:func:`robustness_section`). Noise is a standard deviation in each observation group's own
 units (metres for positions, radians for joint angles); a condition's noise and delay replace
-the run's own, and the rest of its design (groups, distractors) stays.
+the run's own, and the rest of its design (groups, distractors) stays. A condition's test
+distribution replaces the run's training randomisation
+(:func:`~unified_manip.training.evaluation.evaluated_randomization`: the ranges come from
+``--randomization`` or the run's own preset); without one the run's own stays. Each row
+records the run's training randomisation, the distribution and the randomisation it was
+tested under; a ``robustness.csv`` written before these columns reads as ``none``.
 """
 
 from __future__ import annotations
@@ -21,6 +27,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from unified_manip.envs.randomization import TEST_DISTRIBUTIONS, randomization_label
+from unified_manip.experiments.generalisation import distribution_lines
 from unified_manip.experiments.results import collect_row
 
 FILE = "robustness.csv"
@@ -31,15 +39,18 @@ COLUMNS = (
     "observation",
     "algo",
     "seed",
+    "randomization",
     "noise",
     "delay",
+    "distribution",
+    "tested",
     "episodes",
     "successes",
     "success_rate",
     "ci_low",
     "ci_high",
 )
-#: Issue 41's conditions: observation noise of 0, 0.5 and 1 cm, and a one-step delay.
+#: The default conditions: observation noise of 0, 0.5 and 1 cm, and a one-step delay.
 NOISES = (0.0, 0.005, 0.01)
 DELAYS = (1,)
 
@@ -52,20 +63,45 @@ class RobustnessError(ValueError):
 class Condition:
     noise: float
     delay: int
+    distribution: str = ""  # a test distribution (TEST_DISTRIBUTIONS); "": the run's own randomisation
 
     @property
     def label(self) -> str:
         if self.delay:
-            return f"delay {self.delay}" + (f", noise {self.noise:g}" if self.noise else "")
-        return f"noise {self.noise:g}"
+            perturbation = f"delay {self.delay}" + (f", noise {self.noise:g}" if self.noise else "")
+        else:
+            perturbation = f"noise {self.noise:g}"
+        if not self.distribution:
+            return perturbation
+        return self.distribution + (f", {perturbation}" if self.delay or self.noise else "")
+
+    @property
+    def order(self) -> tuple:
+        """Where the condition's column goes: by distribution, then no delay first, by noise."""
+        return (_DISTRIBUTION_ORDER.index(self.distribution), self.delay, self.noise)
 
 
-def conditions(noises: tuple[float, ...] = NOISES, delays: tuple[int, ...] = DELAYS) -> list[Condition]:
-    """Each noise level without delay, then each delay without noise."""
+_DISTRIBUTION_ORDER = ("", *TEST_DISTRIBUTIONS)
+
+
+def conditions(
+    noises: tuple[float, ...] = NOISES, delays: tuple[int, ...] = DELAYS, distributions: tuple[str, ...] = ("",)
+) -> list[Condition]:
+    """On each test distribution (``""``: the run's own randomisation), each noise level
+    without delay, then each delay without noise."""
     bad = [n for n in noises if not n >= 0.0] + [d for d in delays if d < 1]
     if bad:
         raise RobustnessError(f"noise levels must be >= 0 and delays >= 1 step; got {bad[0]!r}")
-    return [Condition(float(n), 0) for n in noises] + [Condition(0.0, int(d)) for d in delays]
+    unknown = [d for d in distributions if d not in _DISTRIBUTION_ORDER]
+    if unknown:
+        raise RobustnessError(
+            f"unknown test distribution {unknown[0]!r}; expected one of {', '.join(TEST_DISTRIBUTIONS)}"
+        )
+    return [
+        c
+        for z in distributions
+        for c in [Condition(float(n), 0, z) for n in noises] + [Condition(0.0, int(d), z) for d in delays]
+    ]
 
 
 def read_robustness(path: Path) -> list[dict[str, Any]]:
@@ -75,6 +111,9 @@ def read_robustness(path: Path) -> list[dict[str, Any]]:
     with Path(path).open(newline="") as f:
         rows = list(csv.DictReader(f))
     for r in rows:
+        r["randomization"] = r.get("randomization") or "none"  # files from before randomisation
+        r["distribution"] = r.get("distribution") or ""
+        r["tested"] = r.get("tested") or r["randomization"]
         for k in ("seed", "delay", "episodes", "successes"):
             r[k] = int(r[k])
         for k in ("noise", "success_rate", "ci_low", "ci_high"):
@@ -87,7 +126,7 @@ def _write(path: Path, rows: list[dict[str, Any]]) -> None:
     with tmp.open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=COLUMNS)
         writer.writeheader()
-        for row in sorted(rows, key=lambda r: (r["run"], r["delay"], r["noise"])):
+        for row in sorted(rows, key=lambda r: (r["run"], _condition(r).order, r["tested"])):
             writer.writerow({k: row[k] for k in COLUMNS})
     os.replace(tmp, path)
 
@@ -98,10 +137,14 @@ def evaluate_bench(
     episodes: int = 50,
     seed: int = 123,
     progress: Callable[[str], None] | None = None,
+    randomization: str | None = None,
 ) -> Path:
     """Evaluate every finished run of ``bench`` under each condition not yet in its
-    ``robustness.csv``; return the file's path."""
-    from unified_manip.training.evaluation import evaluate
+    ``robustness.csv``; return the file's path. ``randomization``: the preset whose ranges
+    the test distributions take (default: each run's own training preset)."""
+    from unified_manip.training.evaluation import evaluate, evaluated_randomization
+    from unified_manip.training.request import TrainError
+    from unified_manip.training.rundir import read_config
 
     runs_dir = Path(bench) / "runs"
     if not runs_dir.is_dir():
@@ -117,23 +160,38 @@ def evaluate_bench(
         )
     path = Path(bench) / FILE
     rows = read_robustness(path)
-    done = {(r["run"], r["noise"], r["delay"]) for r in rows}
-    todo = [(d, row, c) for d, row in finished for c in wanted if (d.name, c.noise, c.delay) not in done]
-    for i, (run_dir, row, c) in enumerate(todo, 1):
+    done = {(r["run"], r["noise"], r["delay"], r["distribution"], r["tested"]) for r in rows}
+    todo = []
+    for d, row in finished:  # every run's test distributions resolve before any evaluation
+        trained = read_config(d)["env_kwargs"].get("randomization")
+        for c in wanted:
+            try:
+                tested = evaluated_randomization(trained, randomization, c.distribution or None)
+            except TrainError as err:
+                raise RobustnessError(f"{d.name}: {err}") from None
+            if (d.name, c.noise, c.delay, c.distribution, randomization_label(tested)) not in done:
+                todo.append((d, row, c, tested))
+    for i, (run_dir, row, c, tested) in enumerate(todo, 1):
         if progress:
             progress(f"[{i}/{len(todo)}] {run_dir.name}: {c.label}")
-        result = evaluate(
-            run_dir / "final_model.zip",
-            episodes,
-            seed=seed,
-            observation_noise=c.noise,
-            observation_delay=c.delay,
-        )
+        try:
+            result = evaluate(
+                run_dir / "final_model.zip",
+                episodes,
+                seed=seed,
+                observation_noise=c.noise,
+                observation_delay=c.delay,
+                randomization=tested,
+            )
+        except TrainError as err:  # a preset none of whose terms the run's task takes
+            raise RobustnessError(f"{run_dir.name}: {err}") from None
         rows.append(
             {
-                **{k: row[k] for k in ("run", "task", "action_mode", "observation", "algo", "seed")},
+                **{k: row[k] for k in ("run", "task", "action_mode", "observation", "algo", "seed", "randomization")},
                 "noise": c.noise,
                 "delay": c.delay,
+                "distribution": c.distribution,
+                "tested": randomization_label(tested),
                 **{k: getattr(result, k) for k in ("episodes", "successes", "success_rate", "ci_low", "ci_high")},
             }
         )
@@ -143,16 +201,22 @@ def evaluate_bench(
     return path
 
 
-def _cells(rows: list[dict[str, Any]]) -> tuple[dict, list[tuple[float, int]], list[str]]:
-    """``task -> (design, mode) -> (noise, delay) -> [success per seed]``, the conditions in
-    order (no delay first, by noise) and their column heads."""
-    cells: dict[str, dict[tuple[str, str], dict[tuple[float, int], list[float]]]] = defaultdict(
+def _condition(row: dict[str, Any]) -> Condition:
+    return Condition(row["noise"], row["delay"], row["distribution"])
+
+
+def _cells(rows: list[dict[str, Any]]) -> tuple[dict, list[Condition], list[str]]:
+    """``task -> (design, mode, training randomisation) -> condition -> [success per seed]``,
+    the conditions in order (by distribution, no delay first, by noise) and their column heads."""
+    cells: dict[str, dict[tuple[str, str, str], dict[Condition, list[float]]]] = defaultdict(
         lambda: defaultdict(lambda: defaultdict(list))
     )
     for r in rows:
-        cells[r["task"]][(r["observation"], r["action_mode"])][(r["noise"], r["delay"])].append(r["success_rate"])
-    keys = sorted({(r["noise"], r["delay"]) for r in rows}, key=lambda k: (k[1], k[0]))
-    return cells, keys, [Condition(n, d).label for n, d in keys]
+        cells[r["task"]][(r["observation"], r["action_mode"], r["randomization"])][_condition(r)].append(
+            r["success_rate"]
+        )
+    keys = sorted({_condition(r) for r in rows}, key=lambda c: c.order)
+    return cells, keys, [c.label for c in keys]
 
 
 def robustness_tables(path: Path) -> dict[str, list[str]]:
@@ -161,12 +225,19 @@ def robustness_tables(path: Path) -> dict[str, list[str]]:
     return _tables(*_cells(read_robustness(path)))
 
 
-def _tables(cells: dict, keys: list[tuple[float, int]], heads: list[str]) -> dict[str, list[str]]:
+def _tables(cells: dict, keys: list[Condition], heads: list[str]) -> dict[str, list[str]]:
+    """A randomisation column only where some run was trained under one."""
+    randomized = any(k[2] != "none" for designs in cells.values() for k in designs)
     tables = {}
     for task, designs in sorted(cells.items()):
-        lines = ["| observation design | mode | " + " | ".join(heads) + " |", "|---|---|" + "---|" * len(heads)]
-        for (design, mode), by_condition in sorted(designs.items()):
-            lines.append(f"| {design} | {mode} | " + " | ".join(_cell(by_condition.get(k, [])) for k in keys) + " |")
+        extra = ("randomization | ", "---|") if randomized else ("", "")
+        lines = [
+            f"| observation design | mode | {extra[0]}" + " | ".join(heads) + " |",
+            f"|---|---|{extra[1]}" + "---|" * len(heads),
+        ]
+        for (design, mode, rand), by_condition in sorted(designs.items()):
+            cells_ = " | ".join(_cell(by_condition.get(k, [])) for k in keys)
+            lines.append(f"| {design} | {mode} | {f'{rand} | ' if randomized else ''}{cells_} |")
         tables[task] = lines
     return tables
 
@@ -188,6 +259,7 @@ def robustness_section(path: Path, out: Path) -> list[str]:
         "radians) or observing one step late; goals stay exact. Mean over seeds, the seeds' range in "
         f"brackets. Made by `unified-manip robustness` into `{Path(path).name}`.",
         "",
+        *distribution_lines(rows),
     ]
     for task, table in _tables(cells, keys, heads).items():
         figure = _plot(task, cells[task], keys, heads, Path(out))
@@ -202,17 +274,20 @@ def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 3.8), dpi=110)
     x = np.arange(len(keys))
-    for (design, mode), by_condition in sorted(designs.items()):
+    for (design, mode, rand), by_condition in sorted(designs.items()):
         values = [by_condition.get(k, []) for k in keys]
         mean = np.array([np.mean(v) if v else np.nan for v in values])
-        (line,) = ax.plot(x, mean, marker="o", ms=4, label=f"{design} ({mode}, n={max(map(len, values))})")
+        trained = "" if rand == "none" else f", trained under {rand}"
+        (line,) = ax.plot(x, mean, marker="o", ms=4, label=f"{design} ({mode}{trained}, n={max(map(len, values))})")
         low = np.array([min(v) if v else np.nan for v in values])
         high = np.array([max(v) if v else np.nan for v in values])
         ax.fill_between(x, low, high, color=line.get_color(), alpha=0.15, linewidth=0)
     ax.set_xticks(x, heads, fontsize=8)
     ax.set_ylabel("success rate of the final policy")
     ax.set_title(
-        f"{task}: final policies under observation noise and delay\n(mean over seeds, range shaded)", fontsize=9
+        f"{task}: final policies under {'test distributions, ' if any(k.distribution for k in keys) else ''}"
+        "observation noise and delay\n(mean over seeds, range shaded)",
+        fontsize=9,
     )
     return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_robustness.png")
 

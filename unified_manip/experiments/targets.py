@@ -83,22 +83,26 @@ def _meets(mean: float, target: float) -> bool:
 
 
 def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...]) -> list[str]:
-    """Markdown lines: one row per (task, action mode, algo, reward, observation design)
-    setting, its final success with the interval
-    :func:`~unified_manip.experiments.stats.seed_interval` labels. The design has a column
-    where some run's is not the default."""
+    """Markdown lines: one row per (task, action mode, algo, reward, observation design,
+    training randomisation) setting, its final success with the interval
+    :func:`~unified_manip.experiments.stats.seed_interval` labels. The design and the
+    randomisation have a column where some run's is not the default."""
     goal = {(t.task, t.action_mode): t.success for t in targets}
-    groups: dict[tuple[str, str, str, str, str], list[dict[str, Any]]] = defaultdict(list)
+    groups: dict[tuple[str, ...], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
-        groups[(r["task"], r["action_mode"], r["algo"], r["reward_type"], r.get("observation") or "default")].append(r)
+        design, randomization = r.get("observation") or "default", r.get("randomization") or "none"
+        groups[(r["task"], r["action_mode"], r["algo"], r["reward_type"], design, randomization)].append(r)
     designs = any(k[4] != "default" for k in groups)
+    randomized = any(k[5] != "none" for k in groups)
+    extra = f"{' observation |' if designs else ''}{' randomization |' if randomized else ''}"
+    rule = "---|" * (designs + randomized)
     lines = [
-        f"| task | mode |{' observation |' if designs else ''} algo | reward | budget | seeds | final success "
+        f"| task | mode |{extra} algo | reward | budget | seeds | final success "
         "[interval] | target | met | steps to target (per seed) | wall time to target (per seed) | "
         "wall time per run | steps/s |",
-        f"|---|---|{'---|' if designs else ''}---|---|---:|---:|---|---:|---|---|---|---|---:|",
+        f"|---|---|{rule}---|---|---:|---:|---|---:|---|---|---|---|---:|",
     ]
-    for (task, mode, algo, reward, design), runs in sorted(groups.items()):
+    for (task, mode, algo, reward, design, randomization), runs in sorted(groups.items()):
         runs = sorted(runs, key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
         mean = float(np.mean(finals))
@@ -114,7 +118,8 @@ def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...]) -> 
         met = "—" if target is None else ("**yes**" if _meets(mean, target) else "no")
         label = f"{target:.2f}" if target is not None else f"— (steps to {threshold:.1f})"
         lines.append(
-            f"| {task.split('/')[-1]} | {mode} |{f' {design} |' if designs else ''} {algo} | {reward} | "
+            f"| {task.split('/')[-1]} | {mode} |{f' {design} |' if designs else ''}"
+            f"{f' {randomization} |' if randomized else ''} {algo} | {reward} | "
             f"{runs[0]['steps']:,} | {len(runs)} | "
             f"{mean:.2f}{interval} | {label} | {met} | {steps_s} | {wall_s} | "
             f"{_hours(float(np.median([r['wall_time_s'] for r in runs])))} | "
@@ -123,7 +128,7 @@ def benchmark_table(rows: list[dict[str, Any]], targets: tuple[Target, ...]) -> 
     missing = [t for t in targets if not any(k[0] == t.task and k[1] == t.action_mode for k in groups)]
     for t in missing:
         lines.append(
-            f"| {t.task.split('/')[-1]} | {t.action_mode} |{' — |' if designs else ''} — | — | — | 0 | not run yet | "
+            f"| {t.task.split('/')[-1]} | {t.action_mode} |{' — |' * (designs + randomized)} — | — | — | 0 | not run yet | "
             f"{t.success:.2f} | — | — | — | — | — |"
         )
     lines += [

@@ -58,6 +58,7 @@ def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]
     ``reward_type`` and extras); return its metadata (``unified_manip``'s). ``path`` may
     hold ``{task}`` and ``{action_mode}`` (:func:`dataset_path`)."""
     from unified_manip.envs.design_names import observation_label
+    from unified_manip.envs.randomization import randomization_label
 
     path = dataset_path(path, task_id, env_config)
     _, meta = _dataset(path)
@@ -89,6 +90,10 @@ def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]
             f"collect --env {task_id} --action-mode {mode} --reward-type {wanted.get('reward_type')} --out DIR/NAME-v0"
         )
     ignored = ("action_mode", "reward_type", "observation", "render_mode")
+    if randomization_label(recorded.get("randomization")) == "none" and isinstance(wanted.get("randomization"), str):
+        # Nominal episodes suit a run under a preset: every preset's ranges hold the nominal
+        # values, so the nominal world is one the run trains in.
+        ignored += ("randomization",)
     differ = sorted(k for k in set(recorded) | set(wanted) if k not in ignored and recorded.get(k) != wanted.get(k))
     if differ:
         shown = ", ".join(f"{k} {recorded.get(k)!r} (recorded) vs {wanted.get(k)!r} (run)" for k in differ)

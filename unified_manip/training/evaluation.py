@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from unified_manip.envs.randomization.presets import randomization_label
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.video import write_video
 from unified_manip.training import rundir
@@ -27,6 +28,10 @@ class EvalResult:
     ci_high: float
     mean_return: float
     std_return: float
+    randomization: str = "none"
+    """The randomisation the episodes ran under (``randomization_label``)."""
+    test_distribution: str | None = None
+    """The test distribution asked for (``default``, ``in-range``, ``extreme``), if any."""
 
     def as_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -97,7 +102,10 @@ def open_policy(
         model_path = rundir.model_to_evaluate(Path(target), run_dir)
     except RunDirectoryError as err:
         raise TrainError(str(err)) from None
-    env = gym.make(config["env"], **{**env_kwargs, **(env_overrides or {})})
+    try:  # the env's own checks of what is asked of it (a preset none of whose terms applies)
+        env = gym.make(config["env"], **{**env_kwargs, **(env_overrides or {})})
+    except ValueError as err:
+        raise TrainError(str(err)) from None
     # HER models need an env to load; give them one over the same instance.
     venv = DummyVecEnv([lambda: env])
     model = get_algo(config["algo"]).load(model_path, algo_kwargs.get("policy"), env=venv, device=device)
@@ -117,11 +125,15 @@ def evaluate(
     video_episodes: int = 2,
     deterministic: bool = True,
     device: str = "auto",
+    randomization: str | None = None,
+    test_distribution: str | None = None,
 ) -> EvalResult:
     """Evaluate a run directory (its best model if any, else its final one) or a model
     zip inside a run directory. The env defaults to the run's own settings; a model
     cannot be evaluated in an action mode it was not trained in. ``observation_noise`` and
-    ``observation_delay`` replace the run's own, to measure a policy's robustness."""
+    ``observation_delay`` replace the run's own, to measure a policy's robustness;
+    ``randomization`` and ``test_distribution`` choose the world it is tested in
+    (:func:`evaluated_randomization`)."""
     from scipy.stats import binomtest
 
     from unified_manip.envs.observations import validate_count, validate_noise
@@ -147,6 +159,9 @@ def evaluate(
             overrides["observation_delay"] = observation_delay
     except ValueError as err:
         raise TrainError(f"--{str(err).replace('_', '-')}") from None
+    if randomization is not None or test_distribution is not None:
+        trained = rundir.read_config(_run_dir(target)).get("env_kwargs", {}).get("randomization")
+        overrides["randomization"] = evaluated_randomization(trained, randomization, test_distribution)
     if video:
         overrides.update(render_mode="rgb_array", render_width=320, render_height=320)
     policy = open_policy(Path(target), overrides, deterministic, device, action_mode)
@@ -177,7 +192,51 @@ def evaluate(
         float(ci.high),
         float(np.mean(returns)),
         float(np.std(returns)),
+        randomization_label(overrides.get("randomization", policy.config["env_kwargs"].get("randomization"))),
+        test_distribution,
     )
+
+
+def evaluated_randomization(trained: Any, preset: str | None, distribution: str | None) -> Any:
+    """The ``randomization`` a policy trained under ``trained`` (its run's value; ``None``:
+    ``none``) is evaluated under: ``preset`` where given, else ``trained``; with a
+    ``distribution`` (``default``, ``in-range``, ``extreme``: Packer et al. 2018), that
+    preset's test distribution (``none``, the preset, its ``:extreme`` counterpart).
+
+    Raises:
+        TrainError: An unknown distribution or preset, or ``in-range``/``extreme`` with no
+            preset to take the ranges from (a run trained under ``none`` or a list of terms
+            needs ``preset``).
+    """
+    from unified_manip.envs.randomization import TEST_DISTRIBUTIONS, distribution_for, preset_terms
+
+    if preset is not None:
+        try:
+            preset_terms(preset)
+        except (TypeError, ValueError) as err:
+            raise TrainError(str(err)) from None
+    base = preset if preset is not None else (trained if trained is not None else "none")
+    if distribution is None:
+        return base
+    if distribution not in TEST_DISTRIBUTIONS:
+        raise TrainError(f"unknown test distribution {distribution!r}; expected one of {', '.join(TEST_DISTRIBUTIONS)}")
+    if distribution != "default" and (not isinstance(base, str) or randomization_label(base) == "none"):
+        raise TrainError(
+            f"--test-distribution {distribution} takes its ranges from a preset, and the run trained under "
+            f"{randomization_label(base)}; add --randomization PRESET (dynamics, objects, visual or all, "
+            "joined by '+')"
+        )
+    try:
+        return distribution_for(base, distribution) if isinstance(base, str) else "none"
+    except ValueError as err:
+        raise TrainError(str(err)) from None
+
+
+def _run_dir(target: Path) -> Path:
+    try:
+        return rundir.containing(Path(target))
+    except RunDirectoryError as err:
+        raise TrainError(str(err)) from None
 
 
 def _stats_for(model_path: Path, run_dir: Path) -> Path:

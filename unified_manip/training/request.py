@@ -8,17 +8,29 @@ from pathlib import Path
 from typing import Any
 
 from unified_manip.envs.design_names import design_label, observation_label
+from unified_manip.envs.randomization.presets import randomization_label
 from unified_manip.envs.registry import get_task
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.devices import DEVICES
 
 
-def run_name(task: str, action_mode: str, reward_type: str, algo: str, seed: int, observation: Any) -> str:
-    """A run's name: ``<task>__<mode>__<reward>__<algo>[__obs-<design>]__s<seed>``; the default
-    observation design adds nothing, so runs from before designs keep their names."""
+def run_name(
+    task: str,
+    action_mode: str,
+    reward_type: str,
+    algo: str,
+    seed: int,
+    observation: Any,
+    randomization: Any = "none",
+) -> str:
+    """A run's name: ``<task>__<mode>__<reward>__<algo>[__obs-<design>][__rand-<preset>]__s<seed>``;
+    the default observation design and ``none`` randomisation add nothing, so runs from
+    before designs and randomisation keep their names."""
     design = observation_label(observation)
     obs = "" if design == "default" else f"__obs-{design}"
-    return f"{task.split('/')[-1]}__{action_mode}__{reward_type}__{algo}{obs}__s{seed}"
+    preset = randomization_label(randomization)
+    rand = "" if preset == "none" else f"__rand-{preset}"
+    return f"{task.split('/')[-1]}__{action_mode}__{reward_type}__{algo}{obs}{rand}__s{seed}"
 
 
 class TrainError(ValueError):
@@ -40,7 +52,8 @@ class TrainRequest:
             file's ``n_envs`` key, and 1 where that has none.
         run_dir: Where the run lives.
         overrides: ``key=value`` hyperparameter overrides.
-        env_kwargs: Extra env keyword arguments (e.g. ``robot``).
+        env_kwargs: Extra env keyword arguments (e.g. ``robot``, or ``randomization``: the
+            training distribution, a preset other than ``none`` or a list of terms).
         device: ``auto``, ``cpu`` or ``cuda``; ``None`` takes the hyperparameter file's
             ``device`` key, and ``auto`` where that has none.
         vec: How the envs are stepped: ``native`` (the native vector env, through
@@ -96,7 +109,10 @@ class TrainRequest:
         if self.run_dir is not None:
             return Path(self.run_dir)
         design = design_label(self.env_kwargs)
-        return Path("runs") / run_name(self.env, self.action_mode, self.reward_type, self.algo, self.seed, design)
+        preset = self.env_kwargs.get("randomization")
+        return Path("runs") / run_name(
+            self.env, self.action_mode, self.reward_type, self.algo, self.seed, design, preset
+        )
 
     def env_config(self) -> dict[str, Any]:
         return {"action_mode": self.action_mode, "reward_type": self.reward_type, **self.env_kwargs}

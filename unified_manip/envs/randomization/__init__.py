@@ -19,6 +19,7 @@ from unified_manip.envs.randomization.presets import (
     TEST_DISTRIBUTIONS,
     distribution_for,
     preset_terms,
+    randomization_label,
 )
 from unified_manip.envs.randomization.terms import (
     DISTRIBUTIONS,
@@ -45,4 +46,5 @@ __all__ = [
     "preset_terms",
     "term_from",
     "distribution_for",
+    "randomization_label",
 ]

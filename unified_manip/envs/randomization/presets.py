@@ -14,7 +14,11 @@ the training range excluded, so that an extreme value is never one seen in train
 
 from __future__ import annotations
 
-from unified_manip.envs.randomization.terms import RandomizationTerm, choices
+import hashlib
+import json
+from typing import Any
+
+from unified_manip.envs.randomization.terms import RandomizationTerm, choices, term_from
 
 T = RandomizationTerm
 
@@ -117,3 +121,19 @@ def distribution_for(preset: str, distribution: str) -> str:
     if distribution == "in-range":
         return "+".join(parts)
     return "+".join(f"{p}:extreme" for p in parts)
+
+
+def randomization_label(value: Any) -> str:
+    """How run names, result tables and reports spell a ``randomization`` value: a preset
+    name as written (``"none"``, ``"dynamics+objects"``; spaces around ``+`` dropped), or
+    ``terms-<8 hex digits>`` for a list of terms (a digest of the terms, so different
+    lists have different names). A missing value (``None``, a run from before
+    randomisation) is ``"none"``."""
+    if value is None:
+        return "none"
+    if isinstance(value, str):
+        return "+".join(part.strip() for part in value.split("+"))
+    terms = [term_from(t).as_dict() for t in value]
+    if not terms:
+        return "none"
+    return "terms-" + hashlib.sha1(json.dumps(terms, sort_keys=True).encode()).hexdigest()[:8]
