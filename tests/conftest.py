@@ -31,6 +31,19 @@ GRIDS = Path(__file__).resolve().parents[1] / "baselines" / "grids"
 COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.relative_to(GRIDS).parts)
 ID_MODES = [(tid, mode) for tid, spec in unified_manip.TASKS.items() for mode in spec.action_modes]
 ID_MODE_REWARDS = [(tid, mode, r) for tid, mode in ID_MODES for r in unified_manip.REWARD_TYPES]
+#: The first registered ID of each family: the integration tests (training, HER) run one
+#: task per family; the per-ID contracts (tests/envs) cover every ID.
+ONE_ID_PER_FAMILY = list({spec.family: tid for tid, spec in reversed(unified_manip.TASKS.items())}.values())[::-1]
+#: One task with an object per family, for the HER tests (a new family must add one:
+#: tests/training/test_her.py checks every family is here).
+HER_IDS = [
+    "UnifiedManip/Arm4PickAndPlace-v0",
+    "UnifiedManip/FetchPush-v0",
+    "UnifiedManip/HandManipulateBlock-v0",
+    "UnifiedManip/Lift-v0",
+    "UnifiedManip/AdroitRelocate-v0",
+    "UnifiedManip/ValveTurn-v0",
+]
 
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -20,7 +20,7 @@ def test_ci_runs_the_readme_test_commands():
     ci = [line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()]
     assert len(commands) == 2  # the full stack, and the base install without robosuite
     assert [c for c in ci if c.startswith("python -m pytest")] == commands
-    assert '-m "not slow and not robosuite"' in commands[1]
+    assert '-m "(golden or not slow) and not robosuite" tests/envs tests/datasets tests/training' in commands[1]
 
 
 def test_no_test_can_skip_on_a_missing_package():

@@ -24,7 +24,7 @@ SETS = load_sets()
 #: The installed MuJoCo's set, or None (then every test here fails, naming the version).
 STORED = SETS.get(mujoco_version())
 NO_SET = f"no golden set for mujoco {mujoco_version()}: run python tests/envs/golden.py --write"
-pytestmark = pytest.mark.slow  # the rollouts take minutes
+pytestmark = [pytest.mark.slow, pytest.mark.golden]  # the rollouts take minutes
 
 #: Children that play the rollouts; case i goes to part i % PARTS (every part gets every family).
 PARTS = 2

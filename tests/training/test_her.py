@@ -1,5 +1,7 @@
-"""A 600-step SAC + HerReplayBuffer run on every task (in ee_delta, or native where the
-task has no ee_delta): HER relabels with our reward."""
+"""A 600-step SAC + HerReplayBuffer run on one task of each family (in ee_delta, or native
+where the task has no ee_delta): HER relabels with our reward. That compute_reward gives
+the step's reward for relabelled goals is checked on every ID, mode and reward type in
+tests/envs/test_envs.py."""
 
 from __future__ import annotations
 
@@ -7,12 +9,15 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
-from conftest import smoke_mode
+from conftest import HER_IDS, smoke_mode
 from stable_baselines3 import SAC, HerReplayBuffer
 
 import unified_manip
 
-HER_IDS = list(unified_manip.TASKS)
+
+def test_every_family_has_a_task_in_the_her_tests():
+    families = {spec.family for spec in unified_manip.TASKS.values()}
+    assert {unified_manip.TASKS[t].family for t in HER_IDS} == families
 
 
 @pytest.mark.slow

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import cli_in_process
+from conftest import ONE_ID_PER_FAMILY, cli_in_process
 
 import unified_manip
 from unified_manip.training import checkpoints
@@ -35,13 +35,6 @@ SMOKE = {
     "crossq_her": ["learning_starts=100", "batch_size=64", "buffer_size=10000", "policy_kwargs.net_arch.qf=[64, 64]"],
 }
 RUN_SETTINGS = ["eval_freq=150", "n_eval_episodes=2", "checkpoint_freq=100"]
-
-
-def one_id_per_family() -> list[str]:
-    seen: dict[str, str] = {}
-    for tid, spec in unified_manip.TASKS.items():
-        seen.setdefault(spec.family, tid)
-    return list(seen.values())
 
 
 def mode_for(task_id: str) -> str:
@@ -106,8 +99,13 @@ def tb_tags(run_dir: Path) -> set[str]:
 
 # ---------------------------------------------------------------------- every algorithm
 @pytest.mark.slow
-@pytest.mark.parametrize("task_id", one_id_per_family())
-@pytest.mark.parametrize("algo", [a for a in ALGOS if a != "bc"])  # bc clones a dataset: tests/training/test_bc.py
+@pytest.mark.parametrize(
+    "algo, task_id",
+    # Every algorithm on the arm, and the benchmark's algorithm on every other family
+    # (bc clones a dataset: tests/training/test_bc.py).
+    [(algo, ONE_ID_PER_FAMILY[0]) for algo in ALGOS if algo != "bc"]
+    + [("tqc_her", task_id) for task_id in ONE_ID_PER_FAMILY[1:]],
+)
 def test_train_300_steps_writes_a_complete_run(algo, task_id, tmp_path):
     run_dir = tmp_path / "run"
     cli(*train_args(task_id, algo, 300, run_dir))
