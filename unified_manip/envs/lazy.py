@@ -59,10 +59,16 @@ def reexport(package: str, submodules: tuple[str, ...]) -> tuple[Callable[[str],
     """
 
     def __getattr__(name: str) -> Any:
-        if name.startswith("__"):
+        if name.startswith("_"):
             raise AttributeError(name)
         for sub in submodules:
-            module = importlib.import_module(f"{package}.{sub}")
+            try:
+                module = importlib.import_module(f"{package}.{sub}")
+            except ImportError as err:
+                # An AttributeError, as for any missing name: code that probes every module
+                # for a name (pickle's whichmodule, which torch.compile's cache runs) must
+                # not fail because a family's simulator is not installed.
+                raise AttributeError(f"module {package!r} has no attribute {name!r} here: {err}") from err
             if name in vars(module):
                 return vars(module)[name]
         raise AttributeError(f"module {package!r} has no attribute {name!r}")
