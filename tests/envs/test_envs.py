@@ -381,7 +381,7 @@ def test_diverged_physics_truncates_with_flag(new_env):
 
 @pytest.mark.slow
 def test_random_steps_stay_stable(pair):
-    """``TaskSpec.stability_steps`` random steps (3,000 unless the task sets fewer), over
+    """``TaskSpec.stability_steps`` random steps (2,000 unless the task sets fewer), over
     episodes of the task's own length."""
     task_id, mode, env, _ = pair
     env.reset(seed=0)

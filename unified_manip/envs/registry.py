@@ -94,7 +94,7 @@ class TaskSpec:
     scripted_episodes: int = 100
     version: int = 0
     render_fps: int = 25
-    stability_steps: int = 3_000
+    stability_steps: int = 2_000
     upstream_id: str | None = None
     make_upstream: Callable[[], object] | None = None
     cameras: Mapping[str, CameraConfig] = field(default_factory=dict)

@@ -13,7 +13,7 @@ _BACKEND = "unified_manip.envs.tasks.adroit.backend:AdroitBackend"
 _UPSTREAM = "gymnasium_robotics.envs.adroit_hand"
 
 #: Random steps per mode in the stability test (Adroit steps at a few hundred/s).
-STABILITY_STEPS = 1_000
+STABILITY_STEPS = 600
 
 #: Door: success is |angle - 1.57| < 0.22 rad (:mod:`.tasks`).
 DOOR_THRESHOLD = 0.22

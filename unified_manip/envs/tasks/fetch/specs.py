@@ -16,7 +16,7 @@ _BACKEND = "unified_manip.envs.tasks.fetch.backend:FetchBackend"
 _UPSTREAM = "gymnasium_robotics.envs.fetch.{module}:MujocoFetch{name}Env"
 
 #: Random steps per mode in the stability test: Fetch steps at ~300-400/s.
-STABILITY_STEPS = 1_000
+STABILITY_STEPS = 600
 
 SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(

@@ -31,7 +31,7 @@ _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 #: test: robosuite steps at ~100-200/s here, so 20 seeded episodes (up to 4,000 steps)
 #: per task keep the suite's time; the policies' rates over more episodes are measured
 #: by ``unified-manip collect`` (docs/datasets.md).
-STABILITY_STEPS = 300
+STABILITY_STEPS = 200
 SCRIPTED_EPISODES = 20
 
 SPECS: tuple[TaskSpec, ...] = tuple(

@@ -16,7 +16,7 @@ _BACKEND = "unified_manip.envs.tasks.shadow_hand.backend:HandBackend"
 _UPSTREAM = "gymnasium_robotics.envs.shadow_dexterous_hand"
 
 #: Random steps per mode in the stability test (the hand steps at a few hundred/s).
-STABILITY_STEPS = 1_000
+STABILITY_STEPS = 600
 
 
 def _spec(name, terms, upstream, upstream_id, goal_dim, steps, distance, threshold, doc, **backend) -> TaskSpec:
