@@ -63,26 +63,24 @@ class ObservationGroup:
         units: Units of its entries, as the docs list them (e.g. ``"rad"``, ``"m"``).
         read: ``backend -> values``: the group's entries from the backend's current state.
         kind: One of :data:`KINDS`; decides which presets include it.
-        goal_dependent: Its entries are ``desired_goal`` minus a quantity of the state,
-            entry for entry (``goal_rel``): another goal moves them by the goal's change.
-            Hindsight relabelling, which swaps the goal of a stored transition, must move
-            them too (``unified_manip.training.GoalRelHerReplayBuffer`` does). Every other
-            group is independent of the goal (tested on every ID, by measurement).
     """
 
     units: str
     read: Callable[[Any], np.ndarray]
     kind: str = "state"
-    goal_dependent: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"unknown observation group kind {self.kind!r}; expected one of {_choices(KINDS)}")
-        if self.read is goal_rel and not self.goal_dependent:
-            raise ValueError(
-                "a group that reads goal_rel (desired_goal - achieved_goal) depends on the goal, "
-                "and hindsight relabelling must move it: build it with goal_rel_group(units)"
-            )
+
+    @property
+    def goal_dependent(self) -> bool:
+        """Whether its entries are ``desired_goal - achieved_goal`` (it reads :func:`goal_rel`):
+        another goal moves them by the goal's change, so hindsight relabelling, which swaps
+        the goal of a stored transition, must move them too
+        (``unified_manip.training.GoalRelHerReplayBuffer`` does). Every other group is
+        independent of the goal (tested on every ID, by measurement)."""
+        return self.read is goal_rel
 
 
 def goal_rel(backend: Any) -> np.ndarray:
@@ -93,7 +91,7 @@ def goal_rel(backend: Any) -> np.ndarray:
 def goal_rel_group(units: str) -> ObservationGroup:
     """The shared ``goal_rel`` group (``desired_goal - achieved_goal``, in ``units``): a
     relative vector that depends on the goal."""
-    return ObservationGroup(units, goal_rel, "relative", goal_dependent=True)
+    return ObservationGroup(units, goal_rel, "relative")
 
 
 def validate_noise(noise: Any) -> None:
