@@ -54,9 +54,9 @@ def _simulating(pid: int) -> bool:
         return False
 
 
-def interrupt(argv: list[str], cwd: Path) -> tuple[int, str, str]:
-    """Run ``unified-manip ARGV``, send SIGINT once it simulates, and return its exit
-    status, stdout and stderr."""
+def interrupt(argv: list[str], cwd: Path, after: float = 1.0) -> tuple[int, str, str]:
+    """Run ``unified-manip ARGV``, send SIGINT ``after`` seconds after MuJoCo's library is
+    mapped (1 s: well inside the work), and return its exit status, stdout and stderr."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "unified_manip.cli", *argv],
         cwd=cwd,
@@ -73,7 +73,7 @@ def interrupt(argv: list[str], cwd: Path) -> tuple[int, str, str]:
         assert proc.poll() is None, f"ended before it simulated: {proc.communicate()}"
         assert time.monotonic() < deadline, "never started simulating"
         time.sleep(0.05)
-    time.sleep(1.0)  # well inside the work
+    time.sleep(after)
     assert proc.poll() is None, f"finished before the interrupt: {proc.communicate()}"
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
@@ -125,3 +125,13 @@ def test_robustness(bench, tmp_path):
     assert_one_line("robustness", code, err)
     # No robustness.csv until a condition is complete, and nothing else touched.
     assert sorted(p.relative_to(bench) for p in bench.rglob("*")) == before
+
+
+@pytest.mark.parametrize("after", [0.0, 0.02, 0.04, 0.06, 0.08])
+def test_robustness_while_mujoco_imports(bench, tmp_path, after):
+    """The signal lands while MuJoCo's bindings import: inside a C extension's
+    initialisation (which turns it into ``ImportError``), a ctypes call (``ArgumentError``)
+    or code the bindings run through ``PyRun_String`` (after which CPython would end the
+    process by SIGINT, not with the status returned)."""
+    code, _, err = interrupt(["robustness", str(bench), "--no-progress"], tmp_path, after=after)
+    assert_one_line("robustness", code, err)

@@ -11,6 +11,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import Parser, positive_int, task_id, task_ids
 from unified_manip.cli.datasets import add_commands as add_dataset_commands
+from unified_manip.cli.interrupts import exit_normally_after_interrupt, noting_ctrl_c
 from unified_manip.cli.output import write_json
 from unified_manip.cli.runs import add_commands
 from unified_manip.envs.registry import TASKS
@@ -130,14 +131,18 @@ COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    try:
-        return _run(parser, args)
-    except KeyboardInterrupt:
-        # Ctrl-C: one line and the shell's status for SIGINT. Every file a command writes is
-        # written whole or not at all (datasets, checkpoints, results, reports, videos, JSON),
-        # so what an interrupted command leaves reads as it did before, or is complete.
-        print(f"unified-manip {args.command}: interrupted", file=sys.stderr)
-        return 130
+    with noting_ctrl_c() as ctrl_c:
+        try:
+            return _run(parser, args)
+        except BaseException as err:
+            if not ctrl_c.caused(err):
+                raise
+    # Ctrl-C: one line and the shell's status for SIGINT. Every file a command writes is
+    # written whole or not at all (datasets, checkpoints, results, reports, videos, JSON),
+    # so what an interrupted command leaves reads as it did before, or is complete.
+    print(f"unified-manip {args.command}: interrupted", file=sys.stderr)
+    exit_normally_after_interrupt()
+    return 130
 
 
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
