@@ -44,7 +44,8 @@ _FENCE = re.compile(r"^(?P<indent>[ \t]*)```(?P<lang>[\w-]*)[ \t]*$")
 _MARKER = re.compile(r"^[ \t]*<!-- snippet: (?P<kind>skip|slow|excerpt)(?: (?P<arg>.*?))? -->[ \t]*$")
 
 #: Substitutions that shrink a block's budget for the slow tests, applied in order to its
-#: text: (pattern, replacement, why). They change numbers only, never which options run.
+#: text: (pattern, replacement, why). They change budgets only (one may add a budget setting the
+#: block leaves at its default), never which features run.
 BUDGETS: tuple[tuple[str, str, str], ...] = (
     (r"\.learn\([\d_]+\)", ".learn(300)", "a Python block trains 300 steps, not its 10,000"),
     (r"(unified-manip train\b[^\n]*?--steps) \d+", r"\1 300", "train runs 300 steps"),
@@ -57,6 +58,16 @@ BUDGETS: tuple[tuple[str, str, str], ...] = (
     (r"--repeats \d+", "--repeats 1", "one repeat"),
     (r"--set eval_freq=\d+", "--set eval_freq=150", "evaluate at 150 steps"),
     (r"--set n_eval_episodes=\d+", "--set n_eval_episodes=2", "two evaluation episodes"),
+    (
+        r"(unified-manip train\b)(?![^\n]*n_eval_episodes)",
+        r"\1 --set n_eval_episodes=2",
+        "a run's final evaluation plays two episodes, not its 50",
+    ),
+    (
+        r"(unified-manip train\b)(?![^\n]*--n-envs)",
+        r"\1 --n-envs 2",
+        "two training envs, not a recipe's 8 worker processes",
+    ),
     (r"--set demonstrations=\d+", "--set demonstrations=8", "8 scripted demonstrations, one per env"),
 )
 
