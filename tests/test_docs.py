@@ -3,7 +3,6 @@ hold what they are generated from, and the README stays a landing page."""
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
 import sys
@@ -11,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from wheel_install import build_wheel, no_checkout_env, wheel_venv
 
 import unified_manip
 
@@ -29,14 +29,28 @@ pytestmark = pytest.mark.xdist_group("docs")
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("site")
+    """The site, built as a reader of a clone would: ``mkdocs build --strict`` from the
+    repository's root, with the package installed from a wheel (not editable), so the
+    source tree imports as laid out (import path = file path). The example family's
+    source is on the path, as its own install would put it."""
+    tmp = tmp_path_factory.mktemp("site")
+    python = wheel_venv(build_wheel(tmp / "wheel"), tmp / "venv", ROOT / "examples" / "valve_family")
+    env = {**no_checkout_env(), "NO_MKDOCS_2_WARNING": "1"}
+    make = "import gymnasium as gym, unified_manip; print(unified_manip.__file__); gym.make('{}').reset(seed=0)"
+    for task_id in ("UnifiedManip/Arm4Reach-v0", "UnifiedManip/ValveTurn-v0"):
+        proc = subprocess.run(
+            [python, "-c", make.format(task_id)], cwd=ROOT, capture_output=True, text=True, timeout=300, env=env
+        )
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        assert proc.stdout.strip() == str(ROOT / "unified_manip" / "__init__.py")  # the tree shadows the wheel
+    out = tmp / "html"
     proc = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
+        [python, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
         cwd=ROOT,
         capture_output=True,
         text=True,
         timeout=900,
-        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
+        env=env,
     )
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
     return out

@@ -4,14 +4,13 @@ that registers every ID without loading any simulator."""
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
 import sys
 import tomllib
 from pathlib import Path
 
 import pytest
+from wheel_install import build_wheel, no_checkout_env, wheel_venv
 
 import unified_manip
 
@@ -20,13 +19,8 @@ ROOT = Path(__file__).resolve().parents[1]
 HEAVY = ("mujoco", "robosuite", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
 
 
-def _no_checkout() -> dict[str, str]:
-    """This environment without PYTHONPATH: a process that must not see the checkout."""
-    return {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-
-
 def _python(code: str, cwd: Path | None = None, python: str = sys.executable) -> str:
-    env = _no_checkout()
+    env = no_checkout_env()
     proc = subprocess.run([python, "-c", code], capture_output=True, text=True, cwd=cwd, env=env, timeout=300)
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
@@ -62,31 +56,10 @@ def test_make_loads_only_its_family_simulator():
     assert _python(code).splitlines() == ["[]", "True"]
 
 
-PIP = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
-
-
-def _copy_source(dest: Path) -> None:
-    """What the wheel is built from: the working tree's package sources, without results."""
-    for name in ("pyproject.toml", "README.md"):
-        shutil.copy2(ROOT / name, dest / name)
-    ignore = shutil.ignore_patterns("__pycache__", "results", "*.egg-info")
-    for name in ("unified_manip", "baselines"):
-        shutil.copytree(ROOT / name, dest / name, ignore=ignore)
-
-
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
     """The wheel built from the working tree's sources, once for this module's tests."""
-    src, dist = tmp_path_factory.mktemp("src"), tmp_path_factory.mktemp("dist")
-    _copy_source(src)
-    subprocess.run(
-        [*PIP, "wheel", "--no-deps", "--no-build-isolation", str(src), "-w", str(dist)],
-        check=True,
-        capture_output=True,
-        timeout=300,
-    )
-    (built,) = dist.glob("unified_manip-*.whl")
-    return built
+    return build_wheel(tmp_path_factory.mktemp("wheel"))
 
 
 @pytest.mark.slow
@@ -94,22 +67,8 @@ def wheel(tmp_path_factory) -> Path:
 def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel, tmp_path):
     venv, work = tmp_path / "venv", tmp_path / "work"
     work.mkdir()
-    # A fresh venv that sees this venv's third-party packages (no download) through a
-    # .pth line. Only a site directory's own .pth files run, so this venv's editable
-    # install of the checkout stays invisible there.
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
-    python = str(venv / "bin" / "python")
+    python = wheel_venv(wheel, venv)
     site = _python("import sysconfig; print(sysconfig.get_paths()['purelib'])", python=python).strip()
-    deps = [p for p in sys.path if p.endswith("site-packages")]  # this venv's and any it chains to
-    Path(site, "_checkout_deps.pth").write_text("\n".join(deps) + "\n")
-    subprocess.run(
-        [*PIP, "--python", python, "install", "--no-deps", "--no-index", str(wheel)],
-        check=True,
-        capture_output=True,
-        timeout=300,
-        env=_no_checkout(),
-    )
-
     where = _python(
         "import unified_manip, unified_manip.training.hyperparams as h; print(unified_manip.__file__); "
         "print(h.DEFAULT_DIR)",
@@ -117,7 +76,7 @@ def test_wheel_installs_into_a_fresh_venv_and_trains_outside_the_checkout(wheel,
         python=python,
     ).splitlines()
     assert all(line.startswith(site) for line in where), where
-    env = _no_checkout()
+    env = no_checkout_env()
     proc = subprocess.run(
         [
             str(venv / "bin" / "unified-manip"),
@@ -166,7 +125,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
         capture_output=True,
         text=True,
         timeout=900,
-        env=_no_checkout(),  # a checkout on PYTHONPATH with build metadata reads as installed to pip
+        env=no_checkout_env(),  # a checkout on PYTHONPATH with build metadata reads as installed to pip
     )
     assert proc.returncode == 0, proc.stderr
     code = (
@@ -187,7 +146,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
         "[]",
         "['adroit', 'arm4', 'fetch', 'shadow_hand']",
     ]
-    env = _no_checkout()
+    env = no_checkout_env()
     train = subprocess.run(
         [
             str(venv / "bin" / "unified-manip"),
