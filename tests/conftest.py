@@ -116,15 +116,9 @@ def overlay_venv(venv: Path, *requirements: str) -> str:
     else as here; its Python. Its processes import the checkout with ``PYTHONPATH=ROOT``."""
     import sys
 
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
-    python = str(venv / "bin" / "python")
-    site = subprocess.run(
-        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-        capture_output=True,
-        text=True,
-        check=True,
-        timeout=120,
-    ).stdout.strip()
+    from wheel_install import fresh_venv
+
+    python, site = fresh_venv(venv)
     # addsitedir, not a bare path: the parent's own .pth files (editable installs such as
     # the example family) are read too.
     parents = [p for p in sys.path if p.endswith("site-packages")]

@@ -37,8 +37,18 @@ def build_wheel(dest: Path) -> Path:
     return built
 
 
-def python_of(venv: Path) -> str:
-    return str(venv / "bin" / "python")
+def fresh_venv(venv: Path) -> tuple[str, str]:
+    """A fresh venv at ``venv`` without pip: its Python and its site directory."""
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
+    python = str(venv / "bin" / "python")
+    site = subprocess.run(
+        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    ).stdout.strip()
+    return python, site
 
 
 def wheel_venv(wheel: Path, venv: Path, *paths: Path) -> str:
@@ -47,15 +57,7 @@ def wheel_venv(wheel: Path, venv: Path, *paths: Path) -> str:
 
     The .pth lines are bare paths: only a site directory's own .pth files run, so this
     venv's editable install of the checkout stays invisible there."""
-    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
-    python = python_of(venv)
-    site = subprocess.run(
-        [python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-        capture_output=True,
-        text=True,
-        check=True,
-        timeout=120,
-    ).stdout.strip()
+    python, site = fresh_venv(venv)
     deps = [p for p in sys.path if p.endswith("site-packages")]  # this venv's and any it chains to
     Path(site, "_checkout_deps.pth").write_text("".join(f"{p}\n" for p in [*deps, *map(str, paths)]))
     subprocess.run(
