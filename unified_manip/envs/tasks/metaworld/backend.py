@@ -117,8 +117,10 @@ class MetaWorldBackend(Backend):
         self._unstable = False
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
-        """Upstream's ``step``, without its path-length check and its float32 round trip."""
+        """Upstream's ``step``, without its path-length check, on the action as float32
+        (upstream's action space's dtype, which its arithmetic then keeps)."""
         up = self._up
+        action = action.astype(np.float32)
         before = bad_state_warnings(self.data)
         up.set_xyz_action(action[:3])
         up.do_simulation([action[-1], -action[-1]], n_frames=up.frame_skip)
@@ -134,6 +136,11 @@ class MetaWorldBackend(Backend):
 
     def unstable(self) -> bool:
         return self._unstable
+
+    @property
+    def upstream(self):
+        """Meta-World's env object this backend steps (to read; the backend steps it)."""
+        return self._up
 
     # -------------------------------------------------------------- readings
     def tcp(self) -> np.ndarray:
@@ -179,10 +186,35 @@ class MetaWorldBackend(Backend):
         for key in ("_readers", "model", "data"):
             del state[key]
         state["_up"] = pickle_upstream(self._up)
+        state["_views"] = data_views(self._up)
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         up = state["_up"] = unpickle_upstream(state["_up"])
+        views = state.pop("_views")
         self.__dict__.update(state)
+        for attr, field, start, shape in views:
+            flat = getattr(up.data, field).reshape(-1)
+            setattr(up, attr, flat[start : start + int(np.prod(shape))].reshape(shape))
         self._readers = [obs_.GROUPS[name].read for name in obs_.DEFAULT]
         self.model, self.data = up.model, up.data
+
+
+def data_views(up) -> list[tuple[str, str, int, tuple[int, ...]]]:
+    """The attributes of ``up`` that are views into its ``MjData``'s arrays, as ``(attribute,
+    field, first flat index, shape)``. Meta-World keeps some (``init_left_pad`` is
+    ``get_body_com("leftpad")``, the pad's live position; basketball's ``_target_pos`` is a
+    site's): its rewards read them as live, and pickling would freeze copies of them."""
+    data = up.data
+    fields = {name: getattr(data, name) for name in dir(data) if not name.startswith("_")}
+    fields = {name: a for name, a in fields.items() if isinstance(a, np.ndarray) and a.size}
+    views = []
+    for attr, value in vars(up).items():
+        if not isinstance(value, np.ndarray) or value.base is None:
+            continue
+        for field, array in fields.items():
+            if np.shares_memory(value, array) and value.flags.c_contiguous:
+                offset = value.__array_interface__["data"][0] - array.__array_interface__["data"][0]
+                views.append((attr, field, offset // array.itemsize, value.shape))
+                break
+    return views
