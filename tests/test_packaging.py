@@ -17,7 +17,7 @@ import unified_manip
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Third-party packages that ``import unified_manip`` must not import.
-HEAVY = ("mujoco", "robosuite", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
+HEAVY = ("mujoco", "robosuite", "metaworld", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
 
 
 def _no_checkout() -> dict[str, str]:

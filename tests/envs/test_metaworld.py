@@ -139,3 +139,21 @@ def test_every_task_steps_with_metaworlds_success_and_batched_rewards():
         batched = env.unwrapped.compute_reward(np.array(ag), np.array(dg), np.array(infos, dtype=object))
         np.testing.assert_array_equal(batched, rewards, err_msg=task_id)
         env.close()
+
+
+def test_the_recorded_page_spaces_are_the_live_envs():
+    """The task pages of the site, built beside a MuJoCo Meta-World cannot run on, read
+    the spaces committed in ``docs/_gen/pinned_spaces.json``: they are the live envs'."""
+    import json
+    import sys
+    from importlib.metadata import version
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "_gen"))
+    import taskspaces
+
+    record = json.loads(taskspaces.PINNED.read_text())
+    assert record["versions"]["metaworld"] == {"mujoco": version("mujoco"), "metaworld": version("metaworld")}
+    assert sorted(record["tasks"]) == sorted(IDS)
+    for task_id in SAMPLED_FAMILIES["metaworld"]:
+        assert taskspaces.measure(task_id) == record["tasks"][task_id], task_id
