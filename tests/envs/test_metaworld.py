@@ -157,3 +157,17 @@ def test_the_recorded_page_spaces_are_the_live_envs():
     assert sorted(record["tasks"]) == sorted(IDS)
     for task_id in SAMPLED_FAMILIES["metaworld"]:
         assert taskspaces.measure(task_id) == record["tasks"][task_id], task_id
+
+
+def test_collect_plays_the_scripted_policy_in_native():
+    """``collect --policy scripted`` records Meta-World's policy in the mode it emits."""
+    from unified_manip.datasets.policies import scripted
+
+    env = _make("UnifiedManip/MetaWorldReach-v0")
+    obs, _ = env.reset(seed=0)
+    ours, theirs = scripted(env), unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy("native")
+    for _ in range(20):
+        action = ours(obs)
+        np.testing.assert_array_equal(action, theirs(env.unwrapped.state_observation()))
+        obs, *_ = env.step(action)
+    env.close()

@@ -4,7 +4,7 @@ policies, in ``native``."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
 
@@ -20,6 +20,9 @@ class MetaWorldPolicy:
     """
 
     env_name: str
+
+    #: The action mode its actions are in.
+    action_mode: ClassVar[str] = "native"
 
     def __call__(self, action_mode: str) -> Callable[[dict[str, np.ndarray]], np.ndarray]:
         if action_mode != "native":
