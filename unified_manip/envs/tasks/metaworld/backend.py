@@ -16,7 +16,7 @@ from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
 from unified_manip.envs.tasks.metaworld import observations as obs_
-from unified_manip.envs.tasks.metaworld.cameras import CAMERAS
+from unified_manip.envs.tasks.metaworld.cameras import SCENE
 from unified_manip.envs.tasks.metaworld.tasks import TASKS, MetaWorldTask
 from unified_manip.envs.tasks.upstream import pickle_upstream, unpickle_upstream
 
@@ -94,9 +94,7 @@ class MetaWorldBackend(Backend):
         self.native_success = 0.0
         self.native_reward = 0.0
         self.upstream_obs = np.zeros(39)
-        self._renderer = Renderer(
-            config.render_mode, config.render_width, config.render_height, CAMERAS["corner"].scene
-        )
+        self._renderer = Renderer(config.render_mode, config.render_width, config.render_height, SCENE)
 
     # -------------------------------------------------------------- episode
     def reset(self, np_random: np.random.Generator) -> None:
