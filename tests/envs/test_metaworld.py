@@ -24,10 +24,10 @@ pytestmark = pytest.mark.metaworld  # every test here needs the metaworld extra
 IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld"]
 
 
-def _make(task_id: str, **kwargs) -> gym.Env:
+def _make(task_id: str, action_mode: str = "native", **kwargs) -> gym.Env:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # Meta-World's policies warn that their gains clip
-        return gym.make(task_id, action_mode="native", **kwargs)
+        return gym.make(task_id, action_mode=action_mode, **kwargs)
 
 
 def test_the_task_list_is_metaworlds_own():
@@ -155,8 +155,9 @@ def test_the_recorded_page_spaces_are_the_live_envs():
     record = json.loads(taskspaces.PINNED.read_text())
     assert record["versions"]["metaworld"] == {"mujoco": version("mujoco"), "metaworld": version("metaworld")}
     assert sorted(record["tasks"]) == sorted(IDS)
-    for task_id in SAMPLED_FAMILIES["metaworld"]:
-        assert taskspaces.measure(task_id) == record["tasks"][task_id], task_id
+    task_id = SAMPLED_FAMILIES["metaworld"][0]  # every ID has the same spaces; one is measured
+    assert taskspaces.measure(task_id) == record["tasks"][task_id]
+    assert all(record["tasks"][t] == record["tasks"][task_id] for t in IDS)
 
 
 def test_collect_plays_the_scripted_policy_in_native():
@@ -170,4 +171,36 @@ def test_collect_plays_the_scripted_policy_in_native():
         action = ours(obs)
         np.testing.assert_array_equal(action, theirs(env.unwrapped.state_observation()))
         obs, *_ = env.step(action)
+    env.close()
+
+
+def test_joint_modes_start_where_native_starts_and_drive_the_sawyer():
+    """Meta-World's reset (its mocap brings the hand to its start) carries over to the
+    actuated copy exactly; a joint target moves the joint, and -1 closes the fingers."""
+    native, joint = (
+        _make("UnifiedManip/MetaWorldPickPlace-v0"),
+        _make("UnifiedManip/MetaWorldPickPlace-v0", action_mode="joint_target_delta"),
+    )
+    a, b = native.reset(seed=4)[0], joint.reset(seed=4)[0]
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])
+    rig = joint.unwrapped.backend.rig
+    q0 = rig.joint_positions().copy()
+    action = np.zeros(8, dtype=np.float32)
+    action[[3, 7]] = (1.0, -1.0)  # j3 up by 0.05 rad a step, fingers closing
+    for _ in range(20):
+        obs, _, _, truncated, _ = joint.step(action)
+    moved = rig.joint_positions() - q0
+    assert moved[3] > 0.5 and np.abs(np.delete(moved, 3)).max() < 0.05 and not truncated
+    assert obs["observation"][3] < b["observation"][3] - 0.3  # the gripper's opening shrank
+    native.close(), joint.close()
+
+
+def test_collect_refuses_a_mode_the_scripted_policy_does_not_emit():
+    from unified_manip.datasets.errors import DatasetError
+    from unified_manip.datasets.policies import scripted
+
+    env = _make("UnifiedManip/MetaWorldReach-v0", action_mode="joint_delta")
+    with pytest.raises(DatasetError, match="cannot play .* in action_mode 'joint_delta': it emits native actions"):
+        scripted(env)
     env.close()

@@ -1,6 +1,6 @@
 """The Meta-World backend: upstream's env object (its model, its seeded reset, its
-observation and its own success and reward) under the ``native`` action mode, with the
-goals of :mod:`.tasks`."""
+observation and its own success and reward) under ``native`` or, on an actuated copy of
+its model (:mod:`.rig`), the joint modes, with the goals of :mod:`.tasks`."""
 
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
 from unified_manip.envs.tasks.metaworld import observations as obs_
 from unified_manip.envs.tasks.metaworld.cameras import SCENE
+from unified_manip.envs.tasks.metaworld.rig import MetaWorldRig, actuated_model
 from unified_manip.envs.tasks.metaworld.tasks import TASKS, MetaWorldTask
 from unified_manip.envs.tasks.upstream import pickle_upstream, unpickle_upstream
 
@@ -57,11 +58,11 @@ def make_upstream(env_name: str):
 
 class MetaWorldBackend(Backend):
     """One Meta-World task under ``native`` (Meta-World's mocap end-effector delta and
-    gripper).
+    gripper) or a joint mode (the actuated copy's servos, :mod:`.rig`).
 
     Args:
         config: The validated env config (``options`` must be empty).
-        controller: The action mode's controller config (``native``).
+        controller: The action mode's controller config.
         task: The task's Meta-World name, e.g. ``"door-open-v3"``.
 
     Attributes:
@@ -90,6 +91,15 @@ class MetaWorldBackend(Backend):
         self.dt = up.dt
         self.action_dim = 4
         self._readers = [obs_.GROUPS[name].read for name in obs_.DEFAULT]
+        self._native = config.action_mode == "native"
+        if not self._native:  # the joint modes run on the actuated copy (.rig)
+            model = actuated_model(up.model_name)
+            self._upstream_pair = (up.model, up.data)  # where upstream's reset moves the hand
+            self._joint_pair = (model, mujoco.MjData(model))
+            self.rig = MetaWorldRig(*self._joint_pair, up.dt)
+            self.control = controller.build(self.rig)
+            self.action_dim = self.control.action_dim
+            self._use(self._joint_pair)
         self._unstable = False
         self.native_success = 0.0
         self.native_reward = 0.0
@@ -104,9 +114,14 @@ class MetaWorldBackend(Backend):
         ``reset`` runs ``reset_model`` twice and keeps the second draw; one is enough."""
         up = self._up
         up._np_random = np_random
+        if not self._native:
+            self._use(self._upstream_pair)
         mujoco.mj_resetData(up.model, up.data)
         up.curr_path_length = 0
         obs = up.reset_model()
+        if not self._native:
+            self._to_joint_pair()
+            obs = up._get_obs()
         obs[PREV] = obs[CURR]  # upstream's reset: the frame stack starts with two copies
         up._prev_obs = obs[CURR].copy()
         self.upstream_obs = np.clip(obs, self._low, self._high)
@@ -120,8 +135,16 @@ class MetaWorldBackend(Backend):
         up = self._up
         action = action.astype(np.float32)
         before = bad_state_warnings(self.data)
-        up.set_xyz_action(action[:3])
-        up.do_simulation([action[-1], -action[-1]], n_frames=up.frame_skip)
+        diagnostics = {}
+        if self._native:
+            up.set_xyz_action(action[:3])
+            up.do_simulation([action[-1], -action[-1]], n_frames=up.frame_skip)
+        else:
+            diagnostics = self.control(action)
+            mujoco.mj_step(self.model, self.data, nstep=up.frame_skip)
+            mujoco.mj_rnePostConstraint(self.model, self.data)
+            # Meta-World's reward reads its action's last entry as the grip effort (+1 closes).
+            action = np.array([0.0, 0.0, 0.0, -action[-1]], dtype=np.float32)
         up.curr_path_length += 1
         for site in up._target_site_config:
             up._set_pos_site(*site)
@@ -130,7 +153,29 @@ class MetaWorldBackend(Backend):
         self.upstream_obs = np.clip(up._get_obs(), self._low, self._high)
         reward, info = up.evaluate_state(self.upstream_obs, action)
         self.native_reward, self.native_success = float(reward), float(info["success"])
-        return {}
+        return diagnostics
+
+    def _use(self, pair) -> None:
+        """Point the backend and upstream's env at ``(model, data)``, upstream's live views
+        into its data included (:func:`data_views`)."""
+        up = self._up
+        views = data_views(up)
+        up.model, up.data = self.model, self.data = pair
+        repoint(up, views)
+
+    def _to_joint_pair(self) -> None:
+        """After upstream's reset on its own model: the actuated copy takes its placements
+        (the model fields its reset moves), state and finger controls; servos hold the pose."""
+        (um, ud), (jm, jd) = self._upstream_pair, self._joint_pair
+        for field in ("body_pos", "body_quat", "site_pos", "site_quat", "geom_pos", "geom_quat"):
+            getattr(jm, field)[:] = getattr(um, field)
+        mujoco.mj_resetData(jm, jd)
+        jd.time = ud.time
+        jd.qpos[:], jd.qvel[:], jd.mocap_pos[:], jd.mocap_quat[:] = ud.qpos, ud.qvel, ud.mocap_pos, ud.mocap_quat
+        jd.ctrl[self.rig.gripper_ids] = ud.ctrl
+        mujoco.mj_forward(jm, jd)
+        self._use(self._joint_pair)
+        self.control.reset()
 
     def unstable(self) -> bool:
         return self._unstable
@@ -191,11 +236,16 @@ class MetaWorldBackend(Backend):
         up = state["_up"] = unpickle_upstream(state["_up"])
         views = state.pop("_views")
         self.__dict__.update(state)
-        for attr, field, start, shape in views:
-            flat = getattr(up.data, field).reshape(-1)
-            setattr(up, attr, flat[start : start + int(np.prod(shape))].reshape(shape))
+        repoint(up, views)
         self._readers = [obs_.GROUPS[name].read for name in obs_.DEFAULT]
         self.model, self.data = up.model, up.data
+
+
+def repoint(up, views: list[tuple[str, str, int, tuple[int, ...]]]) -> None:
+    """Make the attributes :func:`data_views` listed views into ``up.data`` again."""
+    for attr, field, start, shape in views:
+        flat = getattr(up.data, field).reshape(-1)
+        setattr(up, attr, flat[start : start + int(np.prod(shape))].reshape(shape))
 
 
 def data_views(up) -> list[tuple[str, str, int, tuple[int, ...]]]:

@@ -29,6 +29,15 @@ margins from the episode's start), which hindsight relabelling cannot recompute 
 the goals and the step's quantities."""
 
 
+_JOINT_MODES = """The joint modes run on a copy of Meta-World's model with the mocap weld removed, gravity
+compensation on the arm, a force-limited position servo on each arm joint (gains 1000,
+1000, 500, 500, 100, 100, 100 N m/rad, critically damped at the rest pose; the Sawyer's
+torque limits 80, 80, 40, 40, 9, 9, 9 N m) and an armature of 0.1 kg m^2 on the arm
+joints (the model's are 0, on which the servos diverge). Meta-World's reset still brings
+the hand to its start with the mocap, on its own model; the copy takes that state. In
+those modes native_reward reads the gripper entry as Meta-World's grip effort."""
+
+
 def _desired(task: MetaWorldTask) -> str:
     if task.target_z is None:
         return "Meta-World's target (_target_pos)"
@@ -56,8 +65,10 @@ Sparse reward = success - 1. {MAX_STEPS} steps of {STEP_SECONDS * 1000:g} ms.
 
 {_OBSERVATION}
 
-Action modes:
+Action modes (native: Meta-World's (dx, dy, dz, gripper); the joint modes: one entry per
+arm joint, right_j0 to right_j6, then the gripper, -1 closed, +1 open):
 {modes_section(CONTROLLERS)}
+{_JOINT_MODES}
 
 Rewards: term set "{terms.name}": {terms.doc}, with grip_to_object the fingertips'
 midpoint to the task's first object and grasped 1 while both finger pads touch one body.
