@@ -94,7 +94,11 @@ def test_goal_distances_reproduce_metaworlds_success_tests():
     assert (disassemble.distance(lifted, peg) < disassemble.threshold).tolist() == [True, False]
 
 
-@pytest.mark.parametrize("task_id", SAMPLED_FAMILIES["metaworld"])
+@pytest.mark.parametrize(
+    "task_id",
+    # the fingertips, an object carried, a handle along one axis
+    ["UnifiedManip/MetaWorldReach-v0", "UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldDoorOpen-v0"],
+)
 def test_scripted_policy_succeeds_and_success_is_metaworlds(task_id):
     """Meta-World's own policy, one seeded episode: it succeeds, and ``is_success`` equals
     Meta-World's success at every step."""
