@@ -85,7 +85,7 @@ class MetaWorldBackend(Backend):
         self._fingers = (m.site("rightEndEffector").id, m.site("leftEndEffector").id)
         self._pads = (m.geom("leftpad_geom").id, m.geom("rightpad_geom").id)
         names = [m.body(i).name for i in range(m.nbody)]
-        self._robot_bodies = np.array([i for i, n in enumerate(names) if n.startswith(_ROBOT_PREFIXES)])
+        self._robot_bodies = np.array([n.startswith(_ROBOT_PREFIXES) for n in names])
         space = up.sawyer_observation_space
         self._low, self._high = space.low, space.high
         self.dt = up.dt

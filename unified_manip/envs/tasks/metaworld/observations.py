@@ -60,15 +60,17 @@ def quantities(b) -> dict[str, float]:
     return {GRIP_TO_OBJECT: math.dist(b.tcp(), b.upstream_obs[4:7]), GRASPED: float(b.pads_on_one_body())}
 
 
-def pads_touch_one_body(model, data, pads: tuple[int, int], robot_bodies: np.ndarray) -> bool:
-    """Whether both pad geoms touch a geom of one body that is not the robot's."""
+def pads_touch_one_body(model, data, pads: tuple[int, int], robot: np.ndarray) -> bool:
+    """Whether both pad geoms touch a geom of one body that is not the robot's (``robot``:
+    a flag per body)."""
     n = data.ncon
     if n == 0:
         return False
     g1, g2 = data.contact.geom1[:n], data.contact.geom2[:n]
+    b1, b2 = model.geom_bodyid[g1], model.geom_bodyid[g2]
     touched = []
     for pad in pads:
-        other = np.concatenate([g2[g1 == pad], g1[g2 == pad]])
-        bodies = model.geom_bodyid[other]
-        touched.append(set(bodies[~np.isin(bodies, robot_bodies)].tolist()))
+        other = np.where(g1 == pad, b2, np.where(g2 == pad, b1, -1))
+        other = other[other >= 0]
+        touched.append(set(other[~robot[other]].tolist()))
     return bool(touched[0] & touched[1])
