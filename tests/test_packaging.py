@@ -16,7 +16,7 @@ import unified_manip
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Third-party packages that ``import unified_manip`` must not import.
-HEAVY = ("mujoco", "robosuite", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
+HEAVY = ("mujoco", "robosuite", "metaworld", "gymnasium_robotics", "torch", "mink", "stable_baselines3")
 
 
 def _python(code: str, cwd: Path | None = None, python: str = sys.executable) -> str:

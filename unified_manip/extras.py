@@ -20,6 +20,7 @@ EXTRAS: dict[str, tuple[str, ...]] = {
     "zoo": ("rl_zoo3",),
     "datasets": ("minari", "h5py"),
     "robosuite": ("robosuite", "h5py"),
+    "metaworld": ("metaworld",),
     "fast-camera": ("fast_simplification",),
 }
 

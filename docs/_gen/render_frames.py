@@ -23,11 +23,12 @@ OUT = Path(__file__).resolve().parents[1] / "images" / "tasks"
 
 def frame(task_id: str, size: int):
     spec = unified_manip.TASKS[task_id]
-    mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
+    emits = getattr(spec.scripted_policy, "action_mode", "ee_delta")  # Meta-World's policies: native
+    mode = emits if emits in spec.action_modes else spec.action_modes[0]
     env = gym.make(task_id, action_mode=mode, render_mode="rgb_array", render_width=size, render_height=size)
     try:
         obs, _ = env.reset(seed=0)
-        if spec.scripted_policy is not None and mode == "ee_delta":
+        if spec.scripted_policy is not None and mode == emits:
             policy = spec.scripted_policy(mode)
             for _ in range(spec.max_episode_steps // 3):
                 obs, *_ = env.step(policy(obs))

@@ -5,7 +5,7 @@
 Writes ``docs/images/tasks/<name>-v<N>.gif`` for every task that has none (``--all``:
 for every task) and records how each was made in ``docs/images/tasks/animations.json``,
 which the task pages read for their captions. One episode, seed 0, played by the task's
-scripted ``ee_delta`` policy; where a task has none, by the trained run committed under
+scripted policy (in ``ee_delta``, or the mode it emits); where a task has none, by the trained run committed under
 ``results/`` for it (``collect --all``'s choice), else by seeded random actions. The
 episode ends at its time limit, or one second after its first success. Frames are taken
 every ``round(1 / (fps * dt))`` env steps and shown in real time, with one palette per
@@ -32,8 +32,9 @@ HOLD_S = 1.0  # seconds shown after the first success
 def choose(task_id: str):
     """``(action mode, what plays, env -> (obs -> action))`` for the task."""
     spec = unified_manip.TASKS[task_id]
-    if spec.scripted_policy is not None:
-        return "ee_delta", "its scripted policy", lambda env: spec.scripted_policy("ee_delta")
+    if spec.scripted_policy is not None:  # in the mode it emits (Meta-World's: native)
+        mode = getattr(spec.scripted_policy, "action_mode", "ee_delta")
+        return mode, "its scripted policy", lambda env: spec.scripted_policy(mode)
     from unified_manip.cli.datasets import _trained_runs
 
     run = _trained_runs(ROOT / "results").get(task_id)

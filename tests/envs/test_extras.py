@@ -23,11 +23,38 @@ def no_robosuite(monkeypatch):
     monkeypatch.setitem(sys.modules, "robosuite", None)
 
 
-def test_only_the_robosuite_family_needs_an_extra():
+def test_only_the_robosuite_and_metaworld_families_need_an_extra():
     extras = {spec.family: spec.extra for spec in unified_manip.TASKS.values()}
-    assert {family: extra for family, extra in extras.items() if extra} == {"robosuite": "robosuite"}
-    assert {"arm4", "fetch", "shadow_hand", "adroit", "robosuite"} <= extras.keys()
+    assert {family: extra for family, extra in extras.items() if extra} == {
+        "robosuite": "robosuite",
+        "metaworld": "metaworld",
+    }
+    assert {"arm4", "fetch", "shadow_hand", "adroit", "robosuite", "metaworld"} <= extras.keys()
     assert EXTRAS["robosuite"] == ("robosuite", "h5py")
+    assert EXTRAS["metaworld"] == ("metaworld",)
+
+
+def test_the_metaworld_extra_is_not_in_all():
+    """Meta-World 3.1.1 pins mujoco==3.3.0: in ``all``, it would hold every install there."""
+    import tomllib
+    from pathlib import Path
+
+    extras = tomllib.loads((Path(__file__).parents[2] / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"
+    ]
+    assert extras["metaworld"] == ["metaworld==3.1.1"]
+    assert "metaworld" not in extras["all"][0]
+
+
+def test_making_a_metaworld_id_without_the_extra_names_it(monkeypatch):
+    monkeypatch.setitem(sys.modules, "metaworld", None)
+    assert not unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].installed
+    with pytest.raises(MissingExtra) as err:
+        gym.make("UnifiedManip/MetaWorldReach-v0")
+    assert str(err.value) == (
+        'UnifiedManip/MetaWorldReach-v0 needs the metaworld extra: pip install "unified_manip[metaworld]" '
+        "(missing: metaworld)"
+    )
 
 
 @pytest.mark.filterwarnings("ignore:.*no native vector env")
@@ -53,6 +80,6 @@ def test_an_unknown_extra_is_refused():
     spec = unified_manip.TASKS["UnifiedManip/Arm4Reach-v0"]
     with pytest.raises(
         ValueError,
-        match="unknown extra 'robosuit'; expected one of train, bench, ray, zoo, datasets, robosuite, fast-camera",
+        match="unknown extra 'robosuit'; expected one of train, bench, ray, zoo, datasets, robosuite, metaworld, fast-camera",
     ):
         type(spec)(**{**spec.__dict__, "extra": "robosuit"})

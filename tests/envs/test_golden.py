@@ -16,7 +16,7 @@ import hashlib
 import numpy as np
 import pytest
 from conftest import ID_MODE_REWARDS
-from golden import check_portable, feed, hashes_in_child, key, load_sets, mujoco_version
+from golden import cases, check_portable, feed, hashes_in_child, key, load_sets, mujoco_version
 
 import unified_manip
 
@@ -46,11 +46,30 @@ def test_the_installed_mujoco_has_a_golden_set():
     assert "3.9.0" in SETS and "3.3.0" in SETS  # both ends of the tested range
 
 
+#: Extras that pin one MuJoCo release (Meta-World 3.1.1 pins mujoco==3.3.0): their
+#: families' cases can be recorded only in that release's set, and only there are they kept.
+PINNED_MUJOCO = {"metaworld": "3.3.0"}
+
+
+def recordable(mujoco: str) -> set[str]:
+    """The keys of every registered case that MuJoCo ``mujoco`` can play."""
+    return {key(*c) for c in cases() if PINNED_MUJOCO.get(unified_manip.TASKS[c[0]].extra or "", mujoco) == mujoco}
+
+
 def test_every_registered_case_has_stored_hashes():
-    current = {key(*c) for c in ID_MODE_REWARDS}
+    """Every case of every registered ID, the sampled families' too (the rollouts below play
+    the contract suites' sample of them; ``golden.py`` plays them all)."""
     for mujoco, stored in SETS.items():
+        current = recordable(mujoco)
         assert sorted(current - set(stored)) == [], f"mujoco {mujoco}: run python tests/envs/golden.py --write"
         assert sorted(set(stored) - current) == [], f"mujoco {mujoco}: IDs or modes were removed: bump versions instead"
+
+
+def test_a_pinned_family_is_recorded_only_on_its_mujoco():
+    assert {spec.extra for spec in unified_manip.TASKS.values()} >= set(PINNED_MUJOCO)
+    assert all(version in SETS for version in PINNED_MUJOCO.values())
+    pinned = {key(*c) for c in cases()} - recordable("3.9.0")
+    assert pinned and all(unified_manip.TASKS[k.split("|")[0]].extra == "metaworld" for k in pinned)
 
 
 @pytest.mark.parametrize(

@@ -47,7 +47,8 @@ def run(
         TASKS[tid].require_installed()  # before the first rollout
     rows, successes = [], {}
     for tid in tqdm(ids, desc="demo", disable=not progress, unit="task"):
-        shots, ok = rollout_frames(tid, seed, frames, size)
+        mode = "ee_delta" if "ee_delta" in TASKS[tid].action_modes else "native"  # Meta-World's policies: native
+        shots, ok = rollout_frames(tid, seed, frames, size, mode)
         shots += [np.zeros_like(shots[0])] * (frames - len(shots))
         rows.append(np.concatenate(shots, axis=1))
         successes[tid] = ok

@@ -11,7 +11,9 @@ from unified_manip.datasets.errors import DatasetError
 
 def scripted(env) -> Policy:
     """The task's scripted ``ee_delta`` policy, in ``env``'s action mode through
-    :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig.
+    :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig;
+    a policy that emits another mode (its factory's ``action_mode``: Meta-World's emit
+    ``native``) plays that mode only.
 
     It reads the env's state (``state_observation``: the default design, exact), not the
     observation it is handed, so it plays the same episodes whatever the env's observation
@@ -22,13 +24,20 @@ def scripted(env) -> Policy:
     mode = env.unwrapped.config.action_mode
     if spec.scripted_policy is None:
         raise DatasetError(f"{spec.id} has no scripted policy; use --policy random or a trained run directory")
-    scripted_policy = spec.scripted_policy("ee_delta")
+    # The mode the policy emits: ee_delta, or the source's own (Meta-World's policies: native).
+    emits = getattr(spec.scripted_policy, "action_mode", "ee_delta")
+    if emits != "ee_delta" and mode != emits:
+        raise DatasetError(
+            f"the scripted policy cannot play {spec.id} in action_mode {mode!r}: it emits {emits} actions; "
+            f"expected {emits}"
+        )
+    scripted_policy = spec.scripted_policy(emits)
     state = env.unwrapped.state_observation
 
     def policy(obs: dict) -> Any:
         return scripted_policy(state())
 
-    if mode == "ee_delta":
+    if mode == emits:
         return policy
     if mode not in shared_modes(spec):
         raise DatasetError(

@@ -80,6 +80,7 @@ def package_versions() -> dict[str, str]:
         "gymnasium",
         "gymnasium-robotics",
         "robosuite",
+        "metaworld",
         "stable-baselines3",
         "sb3-contrib",
         "torch",

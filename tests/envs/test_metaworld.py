@@ -1,0 +1,210 @@
+"""Meta-World: the 50 tasks are Meta-World 3.1.1's, stepped as Meta-World steps them, with
+``is_success`` equal to Meta-World's own success.
+
+Real Meta-World and MuJoCo 3.3.0, no mocks. The contract suites cover a sample of the
+50 IDs (``conftest.SAMPLED_FAMILIES``); the slow test here plays every one.
+"""
+
+from __future__ import annotations
+
+import pickle
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from conftest import SAMPLED_FAMILIES
+
+import unified_manip
+from unified_manip.envs.tasks.metaworld.cameras import NAMES
+from unified_manip.envs.tasks.metaworld.tasks import TASKS
+
+pytestmark = pytest.mark.metaworld  # every test here needs the metaworld extra
+
+IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld"]
+
+
+def _make(task_id: str, action_mode: str = "native", **kwargs) -> gym.Env:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Meta-World's policies warn that their gains clip
+        return gym.make(task_id, action_mode=action_mode, **kwargs)
+
+
+def test_the_task_list_is_metaworlds_own():
+    """The static list registered without importing Meta-World is Meta-World's, in its
+    order, each with its scripted policy; the cameras are the model's."""
+    import metaworld
+    from metaworld.policies import ENV_POLICY_MAP
+
+    assert list(TASKS) == list(metaworld.ALL_V3_ENVIRONMENTS)
+    assert [unified_manip.TASKS[tid].upstream_id for tid in IDS] == [f"metaworld:{n}" for n in TASKS]
+    assert set(TASKS) <= set(ENV_POLICY_MAP)
+    assert len(IDS) == 50 and IDS[0] == "UnifiedManip/MetaWorldAssembly-v0"
+    assert set(SAMPLED_FAMILIES["metaworld"]) <= set(IDS)
+    env = _make("UnifiedManip/MetaWorldReach-v0")
+    model = env.unwrapped.backend.model
+    assert sorted(NAMES) == sorted(model.camera(i).name for i in range(model.ncam))
+    env.close()
+
+
+@pytest.mark.parametrize("task_id", ["UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldBasketball-v0"])
+def test_steps_are_metaworlds_steps(task_id):
+    """From one state, our steps and Meta-World's own ``step`` (on a copy of its env object,
+    pickled with ours) give the same observations, goals, successes and rewards."""
+    env = _make(task_id, reward_type="dense")
+    env.reset(seed=3)
+    twin = pickle.loads(pickle.dumps(env.unwrapped.backend)).upstream  # Meta-World's env, same state
+    rng = np.random.default_rng(0)
+    for t in range(40):
+        a = rng.uniform(-1, 1, 4).astype(np.float32)
+        obs, _, _, _, info = env.step(a)
+        up_obs, up_reward, _, _, up_info = twin.step(a)
+        np.testing.assert_array_equal(obs["observation"], up_obs[:36].astype(np.float32))
+        target = np.array(twin._target_pos)
+        if task_id.endswith("Basketball-v0"):
+            target[2] = 0.3  # the height its success reads
+        np.testing.assert_array_equal(obs["desired_goal"], target.astype(np.float32))
+        assert info["native_success"] == up_info["success"] and info["native_reward"] == up_reward, t
+        assert info["is_success"] == info["native_success"], t
+    env.close()
+
+
+def test_reset_is_seeded_and_draws_new_placements():
+    env = _make("UnifiedManip/MetaWorldPickPlace-v0")
+    first = [env.reset(seed=s)[0] for s in range(4)]
+    again = env.reset(seed=2)[0]
+    for k in again:
+        np.testing.assert_array_equal(again[k], first[2][k])
+    goals = {tuple(o["desired_goal"]) for o in first}
+    objects = {tuple(o["achieved_goal"]) for o in first}
+    assert len(goals) == len(objects) == 4
+    env.close()
+
+
+def test_goal_distances_reproduce_metaworlds_success_tests():
+    """The distances that are not Euclidean, at both sides of their thresholds."""
+    hammer, assembly, disassemble = (TASKS[n] for n in ("hammer-v3", "assembly-v3", "disassemble-v3"))
+    target = np.array([0.24, 0.74, 0.11])
+    nail = target + np.array([[0, -0.0101, 0], [0, -0.0099, 0], [0, 0.001, 0]])  # nail in by 8.99, 9.01, 10.1 cm
+    assert (hammer.distance(nail, target) < hammer.threshold).tolist() == [False, True, True]
+    peg = np.array([0.0, 0.6, 0.1])
+    nut = peg + np.array([[0.015, 0, -0.01], [0.025, 0, -0.01], [0.015, 0, 0.01], [0, 0, -0.2]])
+    assert (assembly.distance(nut, peg) < assembly.threshold).tolist() == [True, False, False, True]
+    lifted = peg + np.array([[0, 0, 0.001], [0, 0, -0.001]])
+    assert (disassemble.distance(lifted, peg) < disassemble.threshold).tolist() == [True, False]
+
+
+@pytest.mark.parametrize(
+    "task_id",
+    # the fingertips, an object carried, a handle along one axis
+    ["UnifiedManip/MetaWorldReach-v0", "UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldDoorOpen-v0"],
+)
+def test_scripted_policy_succeeds_and_success_is_metaworlds(task_id):
+    """Meta-World's own policy, one seeded episode: it succeeds, and ``is_success`` equals
+    Meta-World's success at every step."""
+    env = _make(task_id)
+    policy = unified_manip.TASKS[task_id].scripted_policy("native")
+    state = env.unwrapped.state_observation
+    env.reset(seed=0)
+    succeeded, disagree = False, []
+    for t in range(env.spec.max_episode_steps):
+        _, _, _, truncated, info = env.step(policy(state()))
+        succeeded |= info["is_success"] == 1.0
+        if info["is_success"] != info["native_success"]:
+            disagree.append(t)
+    assert truncated and succeeded and disagree == []
+    env.close()
+
+
+def test_scripted_policy_is_native_only():
+    factory = unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy
+    with pytest.raises(ValueError, match="emit native actions; got action_mode='ee_delta'"):
+        factory("ee_delta")
+
+
+@pytest.mark.slow
+def test_every_task_steps_with_metaworlds_success_and_batched_rewards():
+    """All 50: 60 steps of the scripted policy each; ``is_success`` equals Meta-World's
+    success (the distance part of it on the two stick tasks), and the batched
+    ``compute_reward`` of the steps equals their rewards."""
+    for task_id in IDS:
+        task = TASKS[unified_manip.TASKS[task_id].upstream_id.split(":")[1]]
+        env = _make(task_id, reward_type="dense")
+        policy = unified_manip.TASKS[task_id].scripted_policy("native")
+        obs, _ = env.reset(seed=1)
+        ag, dg, infos, rewards = [], [], [], []
+        for _ in range(60):
+            obs, r, _, _, info = env.step(policy(env.unwrapped.state_observation()))
+            ag.append(obs["achieved_goal"]), dg.append(obs["desired_goal"]), infos.append(info), rewards.append(r)
+            if task.exact:
+                assert info["is_success"] == info["native_success"], task_id
+            else:
+                assert info["is_success"] >= info["native_success"], task_id
+        batched = env.unwrapped.compute_reward(np.array(ag), np.array(dg), np.array(infos, dtype=object))
+        np.testing.assert_array_equal(batched, rewards, err_msg=task_id)
+        env.close()
+
+
+def test_the_recorded_page_spaces_are_the_live_envs():
+    """The task pages of the site, built beside a MuJoCo Meta-World cannot run on, read
+    the spaces committed in ``docs/_gen/pinned_spaces.json``: they are the live envs'."""
+    import json
+    import sys
+    from importlib.metadata import version
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "_gen"))
+    import taskspaces
+
+    record = json.loads(taskspaces.PINNED.read_text())
+    assert record["versions"]["metaworld"] == {"mujoco": version("mujoco"), "metaworld": version("metaworld")}
+    assert sorted(record["tasks"]) == sorted(IDS)
+    task_id = SAMPLED_FAMILIES["metaworld"][0]  # every ID has the same spaces; one is measured
+    assert taskspaces.measure(task_id) == record["tasks"][task_id]
+    assert all(record["tasks"][t] == record["tasks"][task_id] for t in IDS)
+
+
+def test_collect_plays_the_scripted_policy_in_native():
+    """``collect --policy scripted`` records Meta-World's policy in the mode it emits."""
+    from unified_manip.datasets.policies import scripted
+
+    env = _make("UnifiedManip/MetaWorldReach-v0")
+    obs, _ = env.reset(seed=0)
+    ours, theirs = scripted(env), unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy("native")
+    for _ in range(20):
+        action = ours(obs)
+        np.testing.assert_array_equal(action, theirs(env.unwrapped.state_observation()))
+        obs, *_ = env.step(action)
+    env.close()
+
+
+def test_joint_modes_start_where_native_starts_and_drive_the_sawyer():
+    """Meta-World's reset (its mocap brings the hand to its start) carries over to the
+    actuated copy exactly; a joint target moves the joint, and -1 closes the fingers."""
+    native, joint = (
+        _make("UnifiedManip/MetaWorldPickPlace-v0"),
+        _make("UnifiedManip/MetaWorldPickPlace-v0", action_mode="joint_target_delta"),
+    )
+    a, b = native.reset(seed=4)[0], joint.reset(seed=4)[0]
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])
+    rig = joint.unwrapped.backend.rig
+    q0 = rig.joint_positions().copy()
+    action = np.zeros(8, dtype=np.float32)
+    action[[3, 7]] = (1.0, -1.0)  # j3 up by 0.05 rad a step, fingers closing
+    for _ in range(20):
+        obs, _, _, truncated, _ = joint.step(action)
+    moved = rig.joint_positions() - q0
+    assert moved[3] > 0.5 and np.abs(np.delete(moved, 3)).max() < 0.05 and not truncated
+    assert obs["observation"][3] < b["observation"][3] - 0.3  # the gripper's opening shrank
+    native.close(), joint.close()
+
+
+def test_collect_refuses_a_mode_the_scripted_policy_does_not_emit():
+    from unified_manip.datasets.errors import DatasetError
+    from unified_manip.datasets.policies import scripted
+
+    env = _make("UnifiedManip/MetaWorldReach-v0", action_mode="joint_delta")
+    with pytest.raises(DatasetError, match="cannot play .* in action_mode 'joint_delta': it emits native actions"):
+        scripted(env)
+    env.close()

@@ -1,0 +1,19 @@
+"""The Meta-World family: the 50 tasks of Farama Meta-World 3.1.1 (its Sawyer arm with a
+two-finger gripper), as goal tasks.
+
+The backend wraps the real upstream env object (its model, its seeded reset
+distribution, its observation, its own success and reward). Meta-World's envs are not
+goal-conditioned; each task's goal is Meta-World's target and the point its success
+reads (:mod:`.tasks`, :mod:`.goals`). Action modes: ``native`` (Meta-World's mocap
+end-effector delta and gripper) and the joint modes over the Sawyer's 7 joints, on an
+actuated copy of the model (:mod:`.rig`).
+
+Modules: :mod:`.goals` (goal distances), :mod:`.tasks` (the 50 tasks' goals),
+:mod:`.observations`, :mod:`.cameras`, :mod:`.rig`, :mod:`.controllers`, :mod:`.policies`
+(Meta-World's scripted policies), :mod:`.backend` (imports Meta-World and MuJoCo),
+:mod:`.docs`, :mod:`.specs`.
+"""
+
+from unified_manip.envs.tasks.metaworld.specs import SPECS
+
+__all__ = ["SPECS"]

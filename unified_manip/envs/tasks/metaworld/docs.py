@@ -1,0 +1,80 @@
+"""The Meta-World tasks' documentation pages (``unified-manip list --doc``), one per task,
+written from its goal (:mod:`.tasks`)."""
+
+from __future__ import annotations
+
+from unified_manip.envs.controllers.docs import modes_section
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
+from unified_manip.envs.tasks.metaworld.controllers import CONTROLLERS
+from unified_manip.envs.tasks.metaworld.tasks import MetaWorldTask
+
+#: Steps per episode (Meta-World's ``max_path_length``) and seconds per step.
+MAX_STEPS, STEP_SECONDS = 500, 0.0125
+
+_OBSERVATION = """Observation (36,): Meta-World's own observation without its goal (the last
+3 numbers, here desired_goal), so that concat(observation, desired_goal) is Meta-World's
+39-number vector with the goal shown:
+    0-2    hand position (body "hand")                                m
+    3      gripper opening: fingers' distance / 0.1 m, in [0, 1]       -
+    4-17   objects: position and quaternion of up to two objects      m, -
+           (zeros where the task has fewer)
+    18-35  the same 18 numbers of the step before (Meta-World's frame stack)
+The simulator state (``get_state``) does not hold the target or the objects' start:
+Meta-World keeps them in the env and the model, which pickling keeps."""
+
+_INFO = """Info adds ``native_success`` (Meta-World's own ``success``, 1.0/0.0) and
+``native_reward`` (Meta-World's dense reward of the step, in [0, 10]). That reward is not a
+reward_type here: it reads the target inside terms of each task's own shape (tolerance
+margins from the episode's start), which hindsight relabelling cannot recompute from
+the goals and the step's quantities."""
+
+
+_JOINT_MODES = """The joint modes run on a copy of Meta-World's model with the mocap weld removed, gravity
+compensation on the arm, a force-limited position servo on each arm joint (gains 1000,
+1000, 500, 500, 100, 100, 100 N m/rad, critically damped at the rest pose; the Sawyer's
+torque limits 80, 80, 40, 40, 9, 9, 9 N m) and an armature of 0.1 kg m^2 on the arm
+joints (the model's are 0, on which the servos diverge). Meta-World's reset still brings
+the hand to its start with the mocap, on its own model; the copy takes that state. In
+those modes native_reward reads the gripper entry as Meta-World's grip effort."""
+
+
+def _desired(task: MetaWorldTask) -> str:
+    if task.target_z is None:
+        return "Meta-World's target (_target_pos)"
+    return f"Meta-World's target (_target_pos) at height {task.target_z:g} m, as its success reads it"
+
+
+def task_doc(task: MetaWorldTask) -> str:
+    """The page of one task."""
+    success = (
+        "Success is Meta-World's own (info native_success)."
+        if task.exact
+        else f"Success differs from Meta-World's own (info native_success): {task.note}."
+    )
+    terms = GRIPPER_TERM_SETS[task.terms]
+    return f"""{task.name}: Meta-World's {task.env_name} (Farama Meta-World 3.1.1), as a goal task
+on its Sawyer arm with a two-finger gripper.
+
+Starting state: the object and target placement Meta-World draws at every reset from the
+task's own ranges (its random reset space), seeded by reset(seed); the hand starts at
+Meta-World's place for the task.
+
+Goal (3,): achieved = {task.what}, desired = {_desired(task)}, m.
+Goal distance = {task.distance.describe()} < {task.threshold:g}. {success}
+Sparse reward = success - 1. {MAX_STEPS} steps of {STEP_SECONDS * 1000:g} ms.
+
+{_OBSERVATION}
+
+Action modes (native: Meta-World's (dx, dy, dz, gripper); the joint modes: one entry per
+arm joint, right_j0 to right_j6, then the gripper, -1 closed, +1 open):
+{modes_section(CONTROLLERS)}
+{_JOINT_MODES}
+
+Rewards: term set "{terms.name}": {terms.doc}, with grip_to_object the fingertips'
+midpoint to the task's first object and grasped 1 while both finger pads touch one body.
+{_INFO}
+
+Scripted policy: Meta-World's own (metaworld.policies), in native.
+
+Version history: v0 initial (over Meta-World 3.1.1, MuJoCo 3.3.0).
+"""

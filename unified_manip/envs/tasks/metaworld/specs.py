@@ -1,0 +1,45 @@
+"""The Meta-World task specs (registered by ``unified_manip.envs.tasks``), one per task
+of :data:`.tasks.TASKS`, without importing Meta-World or MuJoCo."""
+
+from __future__ import annotations
+
+from unified_manip.envs.lazy import lazy
+from unified_manip.envs.registry import TaskSpec
+from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
+from unified_manip.envs.tasks.metaworld.cameras import CAMERAS
+from unified_manip.envs.tasks.metaworld.controllers import CONTROLLERS
+from unified_manip.envs.tasks.metaworld.docs import MAX_STEPS, task_doc
+from unified_manip.envs.tasks.metaworld.policies import MetaWorldPolicy
+from unified_manip.envs.tasks.metaworld.tasks import TASKS
+
+_BACKEND = "unified_manip.envs.tasks.metaworld.backend:MetaWorldBackend"
+
+#: Random steps per mode in the stability test (a Meta-World step takes about a millisecond).
+STABILITY_STEPS = 500
+
+#: Episodes of the scripted-policy check (its success is reported, not asserted here).
+SCRIPTED_EPISODES = 5
+
+SPECS: tuple[TaskSpec, ...] = tuple(
+    TaskSpec(
+        name=task.name,
+        family="metaworld",
+        terms=GRIPPER_TERM_SETS[task.terms],
+        make_backend=lazy(_BACKEND, task=env_name),
+        controllers=CONTROLLERS,
+        goal_dim=3,
+        max_episode_steps=MAX_STEPS,
+        distance_threshold=task.threshold,
+        doc=task_doc(task),
+        goal_distance=task.distance,
+        scripted_policy=MetaWorldPolicy(env_name),
+        scripted_episodes=SCRIPTED_EPISODES,
+        render_fps=80,
+        cameras=CAMERAS,
+        stability_steps=STABILITY_STEPS,
+        upstream_id=f"metaworld:{env_name}",
+        make_upstream=lazy("unified_manip.envs.tasks.metaworld.backend:make_upstream", env_name),
+        extra="metaworld",
+    )
+    for env_name, task in TASKS.items()
+)
