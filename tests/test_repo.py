@@ -22,7 +22,10 @@ def test_ci_runs_the_readme_test_commands():
     # Then robosuite added to the base install through uv's override (docs/install.md).
     assert [c for c in ci if c.startswith("python -m pytest")][:2] == commands
     assert 'uv pip install -q -e ".[robosuite]" mujoco==3.3.0' in ci
-    assert '-m "(golden or metaworld or not slow) and not robosuite" tests/envs tests/datasets tests/training' in commands[1]
+    assert (
+        '-m "(golden or metaworld or not slow) and not robosuite" tests/envs tests/datasets tests/training'
+        in commands[1]
+    )
 
 
 def test_no_test_can_skip_on_a_missing_package():
