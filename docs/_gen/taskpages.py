@@ -68,7 +68,7 @@ def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
     """One task's page, in Markdown."""
     summary, doc = taskdoc.split(spec.doc)
     live = taskspaces.spaces(spec.id)
-    example_mode = "ee_delta" if "ee_delta" in spec.action_modes else spec.action_modes[0]
+    example_mode = next(m for m in ("ee_delta", "native", *spec.action_modes) if m in spec.action_modes)
     intro, notes = taskdoc.modes_intro(doc["action"])
     lines = [f"# {short_id(spec.id)}", "", *_picture(spec, animation, has_frame)]
     lines += [
