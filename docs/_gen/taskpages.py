@@ -64,6 +64,13 @@ def _picture(spec, animation: dict | None, has_frame: bool) -> list[str]:
     return []
 
 
+def _distance_text(spec) -> str:
+    """The goal distance the success threshold applies to: the task's own wording where
+    its distance says what it measures (``|dx|``, a weighted norm), else "goal distance"."""
+    describe = getattr(spec.goal_distance, "describe", None)
+    return f"goal distance {describe()}" if describe else "goal distance"
+
+
 def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
     """One task's page, in Markdown."""
     summary, doc = taskdoc.split(spec.doc)
@@ -79,7 +86,7 @@ def task_page(spec, has_frame: bool, animation: dict | None = None) -> str:
         f"| action space | {gen.box(live['modes'][example_mode])} in `{example_mode}` ([every mode](#action-space)) |",
         f"| goal size | {spec.goal_dim} |",
         f"| episode length | {spec.max_episode_steps} steps of {live['dt'] * 1000:g} ms |",
-        f"| success threshold | goal distance < {spec.distance_threshold:g} |",
+        f"| success threshold | {_distance_text(spec)} < {spec.distance_threshold:g} |",
         f"| scripted policy | {'yes' if spec.scripted_policy else 'no'} |",
         "",
         "```python",
