@@ -361,6 +361,15 @@ def test_unknown_task_id_lists_ids():
     assert str(err.value).startswith("unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/")
 
 
+def test_a_misspelt_task_id_names_the_closest_ids_first():
+    with pytest.raises(ValueError) as err:
+        unified_manip.get_task("UnifiedManip/MetaWorldDoorOpn-v0")
+    assert str(err.value).startswith(
+        "unknown task 'UnifiedManip/MetaWorldDoorOpn-v0'; did you mean UnifiedManip/MetaWorldDoorOpen-v0 or "
+    )
+    assert "; expected one of UnifiedManip/Arm4Reach-v0, " in str(err.value)
+
+
 # ---------------------------------------------------------------------- stability
 def test_diverged_physics_truncates_with_flag(new_env):
     """A blown-up state ends the episode with truncated=True and sim_unstable=True."""

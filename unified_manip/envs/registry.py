@@ -7,6 +7,7 @@ A task module calls :func:`register_task` at import time. That adds the spec to
 
 from __future__ import annotations
 
+import difflib
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable, Mapping
@@ -194,9 +195,13 @@ def register_task(spec: TaskSpec) -> TaskSpec:
 
 
 def get_task(task_id: str) -> TaskSpec:
-    """Look up a task by ID, with an error that lists the valid IDs."""
+    """Look up a task by ID, with an error that names the closest IDs, if any, and lists
+    the valid ones."""
     try:
         return TASKS[task_id]
     except KeyError:
+        names = {tid.split("/", 1)[-1]: tid for tid in TASKS}  # the namespace would match everything
+        close = [names[n] for n in difflib.get_close_matches(str(task_id).split("/", 1)[-1], names, n=3, cutoff=0.8)]
+        hint = f"; did you mean {' or '.join(close)}?" if close else ""
         failed = "".join(f"; {line}" for line in PLUGIN_FAILURES)
-        raise ValueError(f"unknown task {task_id!r}; expected one of {', '.join(TASKS)}{failed}") from None
+        raise ValueError(f"unknown task {task_id!r}{hint}; expected one of {', '.join(TASKS)}{failed}") from None
