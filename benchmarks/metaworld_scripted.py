@@ -15,10 +15,11 @@ Episode ``k`` is reset with seed ``k`` and runs the whole 500 steps. Three rates
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import warnings
 from pathlib import Path
+
+from unified_manip.cli.output import write_json
 
 OUT = Path(__file__).resolve().parent / "out" / "metaworld_scripted.json"
 
@@ -73,9 +74,7 @@ def main(argv: list[str] | None = None) -> int:
         "tasks": rows,
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = args.out.with_suffix(".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n")
-    tmp.replace(args.out)
+    write_json(args.out, doc)
     print(f"wrote {args.out}: mean {mean}")
     return 0
 

@@ -23,7 +23,7 @@ OUT = Path(__file__).resolve().parents[1] / "images" / "tasks"
 
 def frame(task_id: str, size: int):
     spec = unified_manip.TASKS[task_id]
-    emits = getattr(spec.scripted_policy, "action_mode", "ee_delta")  # Meta-World's policies: native
+    emits = spec.scripted_mode
     mode = emits if emits in spec.action_modes else spec.action_modes[0]
     env = gym.make(task_id, action_mode=mode, render_mode="rgb_array", render_width=size, render_height=size)
     try:

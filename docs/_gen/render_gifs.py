@@ -33,7 +33,7 @@ def choose(task_id: str):
     """``(action mode, what plays, env -> (obs -> action))`` for the task."""
     spec = unified_manip.TASKS[task_id]
     if spec.scripted_policy is not None:  # in the mode it emits (Meta-World's: native)
-        mode = getattr(spec.scripted_policy, "action_mode", "ee_delta")
+        mode = spec.scripted_mode
         return mode, "its scripted policy", lambda env: spec.scripted_policy(mode)
     from unified_manip.cli.datasets import _trained_runs
 

@@ -14,9 +14,11 @@ import numpy as np
 from unified_manip.envs.registry import TASKS
 
 
-def rollout_frames(task_id: str, seed: int, frames: int, size: int, action_mode: str = "ee_delta"):
-    """Play the task's scripted policy for one episode; return (frames, success)."""
+def rollout_frames(task_id: str, seed: int, frames: int, size: int):
+    """Play the task's scripted policy for one episode, in the mode it emits; return
+    (frames, success)."""
     spec = TASKS[task_id]
+    action_mode = spec.scripted_mode
     env = gym.make(task_id, action_mode=action_mode, render_mode="rgb_array", render_width=size, render_height=size)
     policy = spec.scripted_policy(action_mode)
     obs, info = env.reset(seed=seed)
@@ -47,8 +49,7 @@ def run(
         TASKS[tid].require_installed()  # before the first rollout
     rows, successes = [], {}
     for tid in tqdm(ids, desc="demo", disable=not progress, unit="task"):
-        mode = "ee_delta" if "ee_delta" in TASKS[tid].action_modes else "native"  # Meta-World's policies: native
-        shots, ok = rollout_frames(tid, seed, frames, size, mode)
+        shots, ok = rollout_frames(tid, seed, frames, size)
         shots += [np.zeros_like(shots[0])] * (frames - len(shots))
         rows.append(np.concatenate(shots, axis=1))
         successes[tid] = ok

@@ -24,8 +24,7 @@ def scripted(env) -> Policy:
     mode = env.unwrapped.config.action_mode
     if spec.scripted_policy is None:
         raise DatasetError(f"{spec.id} has no scripted policy; use --policy random or a trained run directory")
-    # The mode the policy emits: ee_delta, or the source's own (Meta-World's policies: native).
-    emits = getattr(spec.scripted_policy, "action_mode", "ee_delta")
+    emits = spec.scripted_mode
     if emits != "ee_delta" and mode != emits:
         raise DatasetError(
             f"the scripted policy cannot play {spec.id} in action_mode {mode!r}: it emits {emits} actions; "

@@ -103,6 +103,14 @@ class TaskSpec:
     extra: str | None = None
 
     @property
+    def scripted_mode(self) -> str | None:
+        """The action mode the scripted policy emits: its ``action_mode`` where it declares
+        one (Meta-World's: ``native``), else ``ee_delta``; ``None`` without a policy."""
+        if self.scripted_policy is None:
+            return None
+        return getattr(self.scripted_policy, "action_mode", "ee_delta")
+
+    @property
     def installed(self) -> bool:
         """Whether the family's simulator is installed (its extra, if it has one)."""
         return self.extra is None or not missing_modules(self.extra)

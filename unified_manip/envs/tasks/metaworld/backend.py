@@ -90,7 +90,6 @@ class MetaWorldBackend(Backend):
         self._low, self._high = space.low, space.high
         self.dt = up.dt
         self.action_dim = 4
-        self._readers = [obs_.GROUPS[name].read for name in obs_.DEFAULT]
         self._native = config.action_mode == "native"
         if not self._native:  # the joint modes run on the actuated copy (.rig)
             model = actuated_model(up.model_name)
@@ -226,7 +225,7 @@ class MetaWorldBackend(Backend):
     # -------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        for key in ("_readers", "model", "data"):
+        for key in ("model", "data"):
             del state[key]
         state["_up"] = pickle_upstream(self._up)
         state["_views"] = data_views(self._up)
@@ -237,7 +236,6 @@ class MetaWorldBackend(Backend):
         views = state.pop("_views")
         self.__dict__.update(state)
         repoint(up, views)
-        self._readers = [obs_.GROUPS[name].read for name in obs_.DEFAULT]
         self.model, self.data = up.model, up.data
 
 

@@ -28,7 +28,7 @@ from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 
 #: Random steps per mode in the stability test, and episodes of the scripted-policy
-#: test: robosuite steps at ~100-200/s here, so 10 seeded episodes (up to 5,000 steps)
+#: test: robosuite steps at ~100-200/s here, so 10 seeded episodes (up to 2,000 steps)
 #: per task keep the suite's time; the policies' rates over more episodes are measured
 #: by ``unified-manip collect`` (docs/datasets.md).
 STABILITY_STEPS = 200
