@@ -29,8 +29,8 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
 
 Modules: :mod:`.options` (the ``robot`` option), :mod:`.cameras` (the image cameras), :mod:`.suite`
 (``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` and :mod:`.more_goals` (how each
-env becomes a goal task), :mod:`.backend`, :mod:`.policies` and :mod:`.more_policies`, :mod:`.docs`,
-:mod:`.specs`. Their names can also be imported from this package
+env becomes a goal task), :mod:`.backend`, :mod:`.policies` and :mod:`.more_policies`, :mod:`.docs` and
+:mod:`.more_docs` (with :mod:`.doc_parts`), :mod:`.specs`. Their names can also be imported from this package
 (``from unified_manip.envs.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
 the family was one module; they are imported on first access.
 """
@@ -52,7 +52,9 @@ __getattr__, __dir__ = reexport(
         "backend",
         "policies",
         "more_policies",
+        "doc_parts",
         "docs",
+        "more_docs",
         "specs",
     ),
 )

@@ -7,20 +7,16 @@ from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
 from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
-from unified_manip.envs.tasks.robosuite_tasks.docs import (
+from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
+from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
+from unified_manip.envs.tasks.robosuite_tasks.more_docs import (
     BREAD_DOC,
-    CAN_DOC,
     CEREAL_DOC,
-    DOOR_DOC,
-    LIFT_DOC,
     MILK_DOC,
-    NUT_DOC,
     SQUARE_NUT_DOC,
-    STACK_DOC,
     TOOL_HANG_DOC,
     WIPE_DOC,
 )
-from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
 from unified_manip.envs.tasks.robosuite_tasks.more_policies import bread_policy, cereal_policy, milk_policy, nut_policy
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
