@@ -183,7 +183,17 @@ def main(argv: list[str]) -> int:
     sets = load_sets()
     mujoco = mujoco_version()
     stored = sets.get(mujoco, {})
-    todo = [c for c in cases() if only in key(*c)]
+    import unified_manip
+
+    matching = [c for c in cases() if only in key(*c)]
+    todo = [c for c in matching if unified_manip.TASKS[c[0]].installed]
+    if len(todo) < len(matching):  # a family whose extra is absent cannot play its cases
+        absent = sorted(
+            {unified_manip.TASKS[c[0]].extra for c in matching} - {unified_manip.TASKS[c[0]].extra for c in todo}
+        )
+        print(f"not played: {len(matching) - len(todo)} cases of extras not installed here ({', '.join(absent)})")
+    if not todo:
+        raise SystemExit(f"no installed case's key contains {only!r} (keys are ID|action mode|reward type)")
     added, differ = [], []
     for case in todo:
         k = key(*case)
