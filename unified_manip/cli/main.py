@@ -11,9 +11,10 @@ from rich.table import Table
 
 from unified_manip.cli.args import Parser, positive_int, task_id, task_ids
 from unified_manip.cli.datasets import add_commands as add_dataset_commands
+from unified_manip.cli.grids import add_commands as add_grid_commands
 from unified_manip.cli.interrupts import exit_normally_after_interrupt, noting_ctrl_c
 from unified_manip.cli.output import write_json
-from unified_manip.cli.runs import add_commands
+from unified_manip.cli.runs import add_commands as add_run_commands
 from unified_manip.envs.registry import TASKS
 from unified_manip.envs.rewards import REWARD_TYPES
 from unified_manip.extras import MissingExtra, require
@@ -100,7 +101,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--width", type=int, default=200, help="table width in characters")
     p.set_defaults(func=cmd_speed)
 
-    add_commands(sub)  # train, eval, bench, report, plot
+    add_run_commands(sub)  # train, eval
+    add_grid_commands(sub)  # bench, report, robustness, plot
     add_dataset_commands(sub)  # collect, replay, convert
 
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
