@@ -18,16 +18,16 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from unified_manip.envs.cameras import ImageSensor, image_sensor, observation_box
+from unified_manip.envs.cameras import observation_box
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions, squared_norms
-from unified_manip.envs.observations import build_stream, reattach
 from unified_manip.envs.randomization.randomizer import Randomizer, build_randomizer
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.termsets import ACTION_SQ
 from unified_manip.envs.vector import infos as vinfo
 from unified_manip.envs.vector.batched import BatchedBackend
+from unified_manip.envs.vector.observation_rows import ObservationRows
 from unified_manip.envs.vector.resets import env_seeds, reset_mask
 
 
@@ -72,21 +72,15 @@ class NativeVectorEnv(VectorEnv):
         self._threshold = self.task.distance_threshold
         self._max_steps = max_episode_steps
         self._batched = batched
-        self._streams = [build_stream(config, batched.backend(i), self._task_id) for i in range(n)]
+        self._rows = ObservationRows(config, self.task, batched, self._task_id)
         # Each env's own randomisation terms on its own model, drawn from its own generator.
         randomizers = [
             build_randomizer(config.randomization, self.task.entities, batched.backend(i), self._task_id)
             for i in range(n)
         ]
         self._randomizers: list[Randomizer] | None = None if randomizers[0] is None else randomizers  # type: ignore[assignment]
-        self._exact = self._streams[0].exact
-        # One camera per env (each env's model holds its own goal marker), drawn in this
-        # thread: a GL context is current in one thread at a time.
-        sensors = [image_sensor(config, self.task.cameras, self._task_id) for _ in range(n)]
-        self._images: list[ImageSensor] | None = [s for s in sensors if s is not None] or None
-        obs = self._raw(batched.observations())
-        throwaway = np.random.default_rng(0)
-        obs["observation"] = np.stack([s.start(obs["observation"][i], throwaway) for i, s in enumerate(self._streams)])
+        obs = self._rows.raw(batched.observations())
+        obs["observation"] = self._rows.start_all(obs["observation"], np.random.default_rng(0))
         self.single_observation_space = spaces.Dict({key: observation_box(key, v[0]) for key, v in obs.items()})
         self.single_action_space = spaces.Box(-1.0, 1.0, shape=(batched.action_dim,), dtype=np.float32)
         self.observation_space = batch_space(self.single_observation_space, n)
@@ -159,7 +153,7 @@ class NativeVectorEnv(VectorEnv):
         reset_drawn: dict[int, dict[str, float]] = {}
         for i in np.flatnonzero(resetting):
             reset_extra = vinfo.gather(reset_extra, self._reset_one(int(i), False, reset_drawn), i, n)
-        obs = self._raw(self._batched.observations())
+        obs = self._rows.raw(self._batched.observations())
         # MuJoCo flags (and resets) a diverged state only at the start of its next substep,
         # so a non-finite observation is a divergence too (as in the single env).
         unstable = (self._batched.unstable() | ~np.isfinite(obs["observation"].sum(axis=1))) & stepping
@@ -202,7 +196,7 @@ class NativeVectorEnv(VectorEnv):
             info["final_obs"], info["_final_obs"] = vinfo.objects(final, n), done.copy()
             for i in np.flatnonzero(done):
                 reset_extra = vinfo.gather(reset_extra, self._reset_one(int(i), False, reset_drawn), i, n)
-            fresh = self._raw(self._batched.observations())
+            fresh = self._rows.raw(self._batched.observations())
             self._sense(fresh, np.flatnonzero(done), ())
             for key, value in obs.items():
                 value[done] = fresh[key][done]
@@ -230,8 +224,7 @@ class NativeVectorEnv(VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         self._batched.close()
-        for sensor in self._images or ():
-            sensor.close()
+        self._rows.close()
 
     # ------------------------------------------------------------------ GoalEnv API, batched
     def compute_reward(self, achieved_goal, desired_goal, info) -> np.ndarray:
@@ -289,42 +282,21 @@ class NativeVectorEnv(VectorEnv):
 
     def _fresh_obs(self, mask: np.ndarray) -> dict[str, np.ndarray]:
         """The backend's observations where ``mask``, the last ones elsewhere."""
-        obs = self._raw(self._batched.observations())
+        obs = self._rows.raw(self._batched.observations())
         self._sense(obs, np.flatnonzero(mask), ())
         for key, value in obs.items():
             value[~mask] = self._last_obs[key][~mask]
             self._last_obs[key] = value.copy()
         return obs
 
-    def _raw(self, obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        """``obs`` with ``observation`` holding the design's groups of every env, before
-        the sensor model (the batched backend's own vector where the design is the default),
-        and the design's images of every env."""
-        if not self._exact:
-            obs["observation"] = np.stack([s.raw(self._batched.backend(i)) for i, s in enumerate(self._streams)])
-        if self._images is not None:
-            frames = [
-                s.read(self._batched.backend(i).model, self._batched.backend(i).data)
-                for i, s in enumerate(self._images)
-            ]
-            for key in frames[0]:
-                obs[key] = np.stack([f[key] for f in frames])
-        return obs
-
     def _sense(
         self, obs: dict[str, np.ndarray], starting: np.ndarray | Sequence[int], advancing: np.ndarray | Sequence[int]
     ) -> None:
-        """The sensor model (distractors, noise, delay) on the rows of envs that start an
-        episode or advance one, each from its own generator as the single env does; the
-        other rows keep the last observation."""
-        if self._streams[0].passthrough:
-            return
-        raw, out = obs["observation"], self._last_obs["observation"].copy()
-        for i in starting:
-            out[i] = self._streams[i].start(raw[i], self._rng(int(i)))
-        for i in advancing:
-            out[i] = self._streams[i].advance(raw[i], self._rng(int(i)))
-        obs["observation"] = out
+        """The sensor model on the rows of envs that start or advance an episode; the
+        other rows keep the last observation (see :meth:`ObservationRows.sense`)."""
+        obs["observation"] = self._rows.sense(
+            obs["observation"], self._last_obs["observation"], starting, advancing, self._rng
+        )
 
     def _rng(self, i: int) -> np.random.Generator:
         rng = self._rngs[i]
@@ -335,17 +307,16 @@ class NativeVectorEnv(VectorEnv):
     @property
     def observation_layout(self) -> dict[str, slice]:
         """Each group of the observation design, in order, with its slice of ``observation``."""
-        return dict(self._streams[0].layout)
+        return self._rows.layout
 
     @property
     def goal_dependent_layout(self) -> dict[str, slice]:
         """The groups of ``observation_layout`` that depend on the goal (as the single env's)."""
-        return dict(self._streams[0].goal_layout)
+        return self._rows.goal_layout
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        for i, stream in enumerate(self._streams):
-            reattach(stream, self._batched.backend(i))
+        self._rows.reattach()
 
     def _success(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         """As the single env's reset: success from the float32 goals."""
