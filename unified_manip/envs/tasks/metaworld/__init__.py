@@ -11,9 +11,15 @@ actuated copy of the model (:mod:`.rig`).
 Modules: :mod:`.goals` (goal distances), :mod:`.tasks` (the 50 tasks' goals),
 :mod:`.observations`, :mod:`.cameras`, :mod:`.rig`, :mod:`.controllers`, :mod:`.policies`
 (Meta-World's scripted policies), :mod:`.backend` (imports Meta-World and MuJoCo),
-:mod:`.docs`, :mod:`.specs`.
+:mod:`.docs`, :mod:`.specs`, :mod:`.benchmarks` (its MT10, MT50 and ML10 task lists).
 """
 
+from unified_manip.envs.tasks.metaworld.benchmarks import LISTS
 from unified_manip.envs.tasks.metaworld.specs import SPECS
 
-__all__ = ["SPECS"]
+_IDS = {spec.upstream_id.removeprefix("metaworld:"): spec.id for spec in SPECS}
+
+#: Meta-World's benchmark lists as IDs (``metaworld:MT10`` in a bench grid's tasks).
+TASK_LISTS = {name: tuple(_IDS[n] for n in names) for name, names in LISTS.items()}
+
+__all__ = ["SPECS", "TASK_LISTS"]
