@@ -174,6 +174,7 @@ class MetaWorldBackend(Backend):
         jd.ctrl[self.rig.gripper_ids] = ud.ctrl
         mujoco.mj_forward(jm, jd)
         self._use(self._joint_pair)
+        self.rig.hold_rotation()
         self.control.reset()
 
     def unstable(self) -> bool:
