@@ -5,12 +5,13 @@ The backend wraps the real upstream env object (its model, its seeded reset
 distribution, its observation, its own success and reward). Meta-World's envs are not
 goal-conditioned; each task's goal is Meta-World's target and the point its success
 reads (:mod:`.tasks`, :mod:`.goals`). Action modes: ``native`` (Meta-World's mocap
-end-effector delta and gripper) and the joint modes over the Sawyer's 7 joints, on an
-actuated copy of the model (:mod:`.rig`).
+end-effector delta and gripper), and on an actuated copy of the model (:mod:`.rig`) the
+joint modes over the Sawyer's 7 joints and ``ee_delta``/``ee_target_delta`` through mink.
+Meta-World's scripted policies emit ``native``; :mod:`.translate` plays them in the others.
 
 Modules: :mod:`.goals` (goal distances), :mod:`.tasks` (the 50 tasks' goals),
 :mod:`.observations`, :mod:`.cameras`, :mod:`.rig`, :mod:`.controllers`, :mod:`.policies`
-(Meta-World's scripted policies), :mod:`.backend` (imports Meta-World and MuJoCo),
+(Meta-World's scripted policies), :mod:`.translate`, :mod:`.backend` (imports Meta-World and MuJoCo),
 :mod:`.docs`, :mod:`.specs`, :mod:`.benchmarks` (its MT10, MT50 and ML10 task lists).
 """
 
