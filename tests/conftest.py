@@ -28,8 +28,8 @@ import unified_manip  # noqa: E402
 #: run: the contract suites (the fixtures and lists below) take this sample of their IDs
 #: (Meta-World's 50 share one backend, observation and action modes; they differ in their
 #: goals, which tests/envs/test_metaworld.py checks on every ID in a slow test), and
-#: golden_hashes.json keeps every ID's hashes. One Meta-World ID's contracts in its 5
-#: modes take about 25 s.
+#: golden_hashes.json keeps every ID's hashes. One Meta-World ID's contracts took about 25 s
+#: in its 5 joint and native modes; its two end-effector modes add about 15 s.
 SAMPLED_FAMILIES: dict[str, tuple[str, ...]] = {
     "metaworld": ("UnifiedManip/MetaWorldPickPlace-v0",),  # an object carried to a point
 }

@@ -47,6 +47,32 @@ def test_the_task_list_is_metaworlds_own():
     env.close()
 
 
+def test_the_task_lists_are_metaworlds_benchmarks_and_a_grid_expands_them(tmp_path):
+    """``metaworld:MT10``, ``MT50``, ``ML10-train`` and ``ML10-test`` are Meta-World's own
+    lists (``metaworld.env_dict``), in its order; a bench grid's ``tasks`` may name one."""
+    import metaworld.env_dict as upstream
+    import yaml
+
+    from unified_manip.envs.task_lists import TASK_LISTS, expand_task_lists
+    from unified_manip.experiments.grid import load_grid
+
+    theirs = {
+        "metaworld:MT10": list(upstream.MT10_V3),
+        "metaworld:MT50": list(upstream.MT50_V3),
+        "metaworld:ML10-train": list(upstream.ML10_V3["train"]),
+        "metaworld:ML10-test": list(upstream.ML10_V3["test"]),
+    }
+    ours = {name: [unified_manip.TASKS[t].upstream_id.split(":")[1] for t in ids] for name, ids in TASK_LISTS.items()}
+    assert ours == theirs
+    drawer, test = "UnifiedManip/MetaWorldDrawerOpen-v0", list(TASK_LISTS["metaworld:ML10-test"])
+    assert expand_task_lists([drawer, "metaworld:ML10-test"]) == [drawer, *(t for t in test if t != drawer)]
+    grid = tmp_path / "grid.yaml"
+    doc = {"tasks": ["metaworld:ML10-test"], "action_modes": ["native"], "reward_types": ["sparse"], "algos": ["sac"]}
+    only = [{"task": test[-1]}]  # the grid checks only the runs it keeps: one env built, not five
+    grid.write_text(yaml.safe_dump({**doc, "seeds": [0], "steps": 1000, "only": only}))
+    assert [run.task for run in load_grid(grid).runs] == [test[-1]]
+
+
 @pytest.mark.parametrize("task_id", ["UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldBasketball-v0"])
 def test_steps_are_metaworlds_steps(task_id):
     """From one state, our steps and Meta-World's own ``step`` (on a copy of its env object,
@@ -116,7 +142,7 @@ def test_scripted_policy_succeeds_and_success_is_metaworlds(task_id):
     env.close()
 
 
-def test_scripted_policy_is_native_only():
+def test_scripted_policy_factory_emits_native_only():
     factory = unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy
     with pytest.raises(ValueError, match="emit native actions; got action_mode='ee_delta'"):
         factory("ee_delta")
@@ -200,11 +226,29 @@ def test_joint_modes_start_where_native_starts_and_drive_the_sawyer():
     native.close(), joint.close()
 
 
-def test_collect_refuses_a_mode_the_scripted_policy_does_not_emit():
-    from unified_manip.datasets.errors import DatasetError
+def test_collect_translates_the_scripted_policy_into_the_end_effector_modes():
+    """In ee_target_delta, whose step is Meta-World's 1 cm, the translated actions are
+    Meta-World's with the gripper's sign flipped (the target moves as the mocap); in
+    ee_delta the translated policy closes the drawer."""
     from unified_manip.datasets.policies import scripted
 
-    env = _make("UnifiedManip/MetaWorldReach-v0", action_mode="joint_delta")
-    with pytest.raises(DatasetError, match="cannot play .* in action_mode 'joint_delta': it emits native actions"):
-        scripted(env)
+    task_id = "UnifiedManip/MetaWorldDrawerClose-v0"
+    env = _make(task_id, action_mode="ee_target_delta")
+    theirs = unified_manip.TASKS[task_id].scripted_policy("native")
+    obs, _ = env.reset(seed=0)
+    ours = scripted(env)
+    for _ in range(30):
+        native = theirs(env.unwrapped.state_observation())
+        action = ours(obs)
+        np.testing.assert_allclose(action, np.clip(np.append(native[:3], -native[3]), -1, 1), atol=1e-5)
+        obs, *_ = env.step(action)
+    env.close()
+    env = _make(task_id, action_mode="ee_delta")
+    obs, _ = env.reset(seed=0)
+    policy = scripted(env)
+    for _ in range(150):
+        obs, _, _, _, info = env.step(policy(obs))
+        if info["is_success"]:
+            break
+    assert info["is_success"] == 1.0 and info["native_success"] == 1.0
     env.close()

@@ -282,6 +282,11 @@ def test_training_curves_take_a_resumed_segments_values_over_the_steps_it_repeat
             {"tasks": ["UnifiedManip/Nope-v0"]},
             "unknown task 'UnifiedManip/Nope-v0'; expected one of UnifiedManip/Arm4Reach-v0",
         ),
+        (
+            {"tasks": ["metaworld:MT11"]},
+            "unknown task list 'metaworld:MT11'; expected one of metaworld:MT10, metaworld:MT50, metaworld:ML10-train, "
+            "metaworld:ML10-test",
+        ),
         ({"algos": ["dqn"]}, "unknown algorithm 'dqn'; expected one of ppo, sac, td3, sac_her, tqc_her, crossq_her"),
         (
             {"reward_types": ["shaped"]},

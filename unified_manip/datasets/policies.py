@@ -13,7 +13,8 @@ def scripted(env) -> Policy:
     """The task's scripted ``ee_delta`` policy, in ``env``'s action mode through
     :class:`~unified_manip.envs.controllers.translate.EEDeltaInMode` on the env's own rig;
     a policy that emits another mode (its factory's ``action_mode``: Meta-World's emit
-    ``native``) plays that mode only.
+    ``native``) is translated by its factory's ``translator(backend, ee_config)`` where it
+    has one, else plays that mode only.
 
     It reads the env's state (``state_observation``: the default design, exact), not the
     observation it is handed, so it plays the same episodes whatever the env's observation
@@ -25,7 +26,8 @@ def scripted(env) -> Policy:
     if spec.scripted_policy is None:
         raise DatasetError(f"{spec.id} has no scripted policy; use --policy random or a trained run directory")
     emits = spec.scripted_mode
-    if emits != "ee_delta" and mode != emits:
+    translator = getattr(spec.scripted_policy, "translator", None) if emits != "ee_delta" else None
+    if emits != "ee_delta" and mode != emits and translator is None:
         raise DatasetError(
             f"the scripted policy cannot play {spec.id} in action_mode {mode!r}: it emits {emits} actions; "
             f"expected {emits}"
@@ -44,7 +46,8 @@ def scripted(env) -> Policy:
             f"expected one of {', '.join(shared_modes(spec))}"
         )
     try:
-        translate = EEDeltaInMode(env.unwrapped.backend, spec.controllers["ee_delta"])
+        build = translator or EEDeltaInMode
+        translate = build(env.unwrapped.backend, spec.controllers["ee_delta"])
     except ValueError as err:
         raise DatasetError(f"the scripted policy cannot play {spec.id} in action_mode {mode!r}: {err}") from None
     return lambda obs: translate(policy(obs))

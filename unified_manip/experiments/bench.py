@@ -4,7 +4,7 @@ A grid file (``baselines/grids/*.yaml``) lists tasks x action modes x reward typ
 algorithms x seeds, the budget and the evaluation schedule::
 
     name: action_spaces
-    tasks: [UnifiedManip/Arm4Reach-v0, UnifiedManip/FetchReach-v0]
+    tasks: [UnifiedManip/Arm4Reach-v0, UnifiedManip/FetchReach-v0]   # or a named list: metaworld:MT10
     action_modes: all              # or a list; "all" = every mode each task supports
     reward_types: [sparse]
     algos: [sac_her]

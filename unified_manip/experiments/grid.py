@@ -12,6 +12,7 @@ from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.design_names import design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
+from unified_manip.envs.task_lists import expand_task_lists
 from unified_manip.experiments.designs import check_design, parse_designs
 from unified_manip.experiments.randomizations import check_randomization, grid_randomizations
 from unified_manip.training.algorithms import ALGOS
@@ -135,7 +136,10 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
             f"{path}: name {name!r} must be a plain directory name (no '/', '\\', '..' or absolute path): "
             "the bench writes to results/<name>"
         )
-    tasks = _list(path, doc, "tasks", str)
+    try:  # a named list (metaworld:MT10) stands for its IDs
+        tasks = expand_task_lists(_list(path, doc, "tasks", str))
+    except ValueError as err:
+        raise GridError(f"{path}: {err}") from None
     _check(path, get_task, tasks)  # the registry's and EnvConfig's own checks and words
     rewards = _list(path, doc, "reward_types", str)
     _check(path, validate_reward_type, rewards)

@@ -146,3 +146,14 @@ class MujocoRig:
     def hold_current_pose(self) -> None:
         """Set servo targets to the current joint positions (after a reset)."""
         self.reset("position")
+
+
+class FixedRotation:
+    """A rig's ``ee_rotation`` that holds one rotation whatever the target (a picklable
+    callable): e.g. the grip site's rotation at the start, "pointing down"."""
+
+    def __init__(self, rotation: np.ndarray) -> None:
+        self.rotation = rotation
+
+    def __call__(self, target: np.ndarray) -> np.ndarray:
+        return self.rotation

@@ -12,7 +12,7 @@ from gymnasium_robotics.envs.fetch.fetch_env import DEFAULT_CAMERA_CONFIG
 
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
-from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.controllers.rig import FixedRotation, MujocoRig
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.rendering import SceneOptions
 from unified_manip.envs.tasks import upstream_private as private
@@ -35,16 +35,6 @@ from unified_manip.envs.tasks.upstream import UpstreamBackend
 
 #: How the scene is drawn: upstream's free camera, every geom group.
 SCENE = SceneOptions(free_camera=DEFAULT_CAMERA_CONFIG)
-
-
-class FixedRotation:
-    """The IK's target rotation: always the grip site's initial one (a picklable callable)."""
-
-    def __init__(self, rotation: np.ndarray) -> None:
-        self.rotation = rotation
-
-    def __call__(self, target: np.ndarray) -> np.ndarray:
-        return self.rotation
 
 
 class FetchBackend(UpstreamBackend):

@@ -1,6 +1,6 @@
 """The Meta-World backend: upstream's env object (its model, its seeded reset, its
 observation and its own success and reward) under ``native`` or, on an actuated copy of
-its model (:mod:`.rig`), the joint modes, with the goals of :mod:`.tasks`."""
+its model (:mod:`.rig`), the joint and end-effector modes, with the goals of :mod:`.tasks`."""
 
 from __future__ import annotations
 
@@ -91,7 +91,7 @@ class MetaWorldBackend(Backend):
         self.dt = up.dt
         self.action_dim = 4
         self._native = config.action_mode == "native"
-        if not self._native:  # the joint modes run on the actuated copy (.rig)
+        if not self._native:  # the other modes run on the actuated copy (.rig)
             model = actuated_model(up.model_name)
             self._upstream_pair = (up.model, up.data)  # where upstream's reset moves the hand
             self._joint_pair = (model, mujoco.MjData(model))
@@ -174,6 +174,7 @@ class MetaWorldBackend(Backend):
         jd.ctrl[self.rig.gripper_ids] = ud.ctrl
         mujoco.mj_forward(jm, jd)
         self._use(self._joint_pair)
+        self.rig.hold_rotation()
         self.control.reset()
 
     def unstable(self) -> bool:

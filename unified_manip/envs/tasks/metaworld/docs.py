@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
+from unified_manip.envs.tasks.metaworld.benchmarks import LISTS
 from unified_manip.envs.tasks.metaworld.controllers import CONTROLLERS
 from unified_manip.envs.tasks.metaworld.tasks import MetaWorldTask
 
@@ -29,12 +30,14 @@ margins from the episode's start), which hindsight relabelling cannot recompute 
 the goals and the step's quantities."""
 
 
-_JOINT_MODES = """The joint modes run on a copy of Meta-World's model with the mocap weld removed, gravity
-compensation on the arm, a force-limited position servo on each arm joint (gains 1000,
-1000, 500, 500, 100, 100, 100 N m/rad, critically damped at the rest pose; the Sawyer's
-torque limits 80, 80, 40, 40, 9, 9, 9 N m) and an armature of 0.1 kg m^2 on the arm
-joints (the model's are 0, on which the servos diverge). Meta-World's reset still brings
-the hand to its start with the mocap, on its own model; the copy takes that state. In
+_JOINT_MODES = """The joint and end-effector modes run on a copy of Meta-World's model with the mocap weld
+removed, gravity compensation on the arm, a force-limited position servo on each arm joint
+(gains 1000, 1000, 500, 500, 100, 100, 100 N m/rad, critically damped at the rest pose; the
+Sawyer's torque limits 80, 80, 40, 40, 9, 9, 9 N m) and an armature of 0.1 kg m^2 on the
+arm joints (the model's are 0, on which the servos diverge). Meta-World's reset still
+brings the hand to its start with the mocap, on its own model; the copy takes that state.
+The end-effector modes' grip site is Meta-World's site endEffector, on the hand 5 mm above
+the fingertips' midpoint; mink's IK holds the hand's rotation at the episode's start. In
 those modes native_reward reads the gripper entry as Meta-World's grip effort."""
 
 
@@ -42,6 +45,14 @@ def _desired(task: MetaWorldTask) -> str:
     if task.target_z is None:
         return "Meta-World's target (_target_pos)"
     return f"Meta-World's target (_target_pos) at height {task.target_z:g} m, as its success reads it"
+
+
+def _lists(task: MetaWorldTask) -> str:
+    """The task lists paragraph: Meta-World's benchmark lists, and which hold the task."""
+    names = ", ".join(f"metaworld:{name}" for name in LISTS)
+    member = [name for name, tasks in LISTS.items() if task.env_name in tasks]
+    return f"""Task lists: in Meta-World's {", ".join(member)}. A bench grid's tasks may name a
+list in place of its IDs: {names}."""
 
 
 def task_doc(task: MetaWorldTask) -> str:
@@ -65,8 +76,9 @@ Sparse reward = success - 1. {MAX_STEPS} steps of {STEP_SECONDS * 1000:g} ms.
 
 {_OBSERVATION}
 
-Action modes (native: Meta-World's (dx, dy, dz, gripper); the joint modes: one entry per
-arm joint, right_j0 to right_j6, then the gripper, -1 closed, +1 open):
+Action modes (native: Meta-World's (dx, dy, dz, gripper); the end-effector modes: (dx, dy,
+dz, gripper); the joint modes: one entry per arm joint, right_j0 to right_j6, then the
+gripper; outside native the gripper is -1 closed, +1 open):
 {modes_section(CONTROLLERS)}
 {_JOINT_MODES}
 
@@ -74,7 +86,11 @@ Rewards: term set "{terms.name}": {terms.doc}, with grip_to_object the fingertip
 midpoint to the task's first object and grasped 1 while both finger pads touch one body.
 {_INFO}
 
-Scripted policy: Meta-World's own (metaworld.policies), in native.
+Scripted policy: Meta-World's own (metaworld.policies), in native. In the other modes its
+actions are translated live: its mocap target (moved 1 cm per unit, clipped to the task's
+mocap box) is kept, and the mode is asked for the grip site there.
+
+{_lists(task)}
 
 Version history: v0 initial (over Meta-World 3.1.1, MuJoCo 3.3.0).
 """

@@ -1,5 +1,5 @@
 """Meta-World's own scripted policies (``metaworld.policies``) as the tasks' scripted
-policies, in ``native``."""
+policies: they emit ``native`` actions, which :mod:`.translate` plays in the other modes."""
 
 from __future__ import annotations
 
@@ -36,3 +36,10 @@ class MetaWorldPolicy:
             return np.asarray(policy.get_action(upstream), dtype=np.float32)
 
         return act
+
+    def translator(self, backend, ee) -> Callable[[np.ndarray], np.ndarray]:
+        """Its actions in ``backend``'s mode, a mode of the shared controllers
+        (:class:`~.translate.NativeInMode`); ``ee`` is the task's ``ee_delta`` config."""
+        from unified_manip.envs.tasks.metaworld.translate import NativeInMode
+
+        return NativeInMode(backend, ee)

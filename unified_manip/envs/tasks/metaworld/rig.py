@@ -1,8 +1,9 @@
-"""The joint modes' Sawyer: Meta-World's model with the mocap weld removed and the arm's
-7 joints on position servos, and the rig the shared joint controllers drive.
+"""The Sawyer of the joint and end-effector modes: Meta-World's model with the mocap weld
+removed and the arm's 7 joints on position servos, and the rig the shared controllers
+drive.
 
 Meta-World moves the hand with a mocap body welded to it; the arm's joints have no
-actuators. The joint modes run on an actuated copy of the model (MjSpec): the weld
+actuators. These modes run on an actuated copy of the model (MjSpec): the weld
 deleted, gravity compensation on the arm, a force-limited position servo per joint (the
 rig switches it to torque for ``joint_torque``), and an armature on the arm joints (the
 model's are 0; measured: servos on them diverge within 0.15 s at Meta-World's 2.5 ms
@@ -15,7 +16,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from unified_manip.envs.controllers.rig import MujocoRig
+from unified_manip.envs.controllers.rig import FixedRotation, MujocoRig
 from unified_manip.envs.mujoco_version import delete_element, set_to_position
 
 ARM_JOINTS = tuple(f"right_j{i}" for i in range(7))
@@ -23,6 +24,10 @@ ARM_ACTUATORS = tuple(f"servo_j{i}" for i in range(7))
 #: The fingers' actuators (unnamed in Meta-World's model; named after their joints here),
 #: in Meta-World's control order: its gripper action ``a`` sets them to ``(a, -a)``.
 FINGER_ACTUATORS = ("finger_r_close", "finger_l_close")
+#: The grip site of the end-effector modes: Meta-World's ``endEffector``, on the hand
+#: between the fingers, 5 mm above the fingertips' midpoint (the fingers' own sites move
+#: as they open and close).
+GRIP_SITE = "endEffector"
 #: Servo gains, N m/rad, and torque limits, N m (the Sawyer's rated joint torques).
 ARM_KP = (1000.0, 1000.0, 500.0, 500.0, 100.0, 100.0, 100.0)
 ARM_TORQUE = (80.0, 80.0, 40.0, 40.0, 9.0, 9.0, 9.0)
@@ -66,9 +71,11 @@ def actuated_model(path: str) -> mujoco.MjModel:
 
 
 class MetaWorldRig(MujocoRig):
-    """The actuated Sawyer for the shared joint controllers. Its gripper command is
+    """The actuated Sawyer for the shared controllers. Its gripper command is
     Meta-World's with the sign of this interface: -1 closes (Meta-World's +1: finger
-    controls ``(1, -1)``), +1 opens."""
+    controls ``(1, -1)``), +1 opens. Its grip site is :data:`GRIP_SITE`; the end-effector
+    modes hold the hand's rotation at the episode's start (:meth:`hold_rotation`), as
+    Meta-World's mocap holds one rotation."""
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, dt: float) -> None:
         super().__init__(
@@ -79,9 +86,14 @@ class MetaWorldRig(MujocoRig):
             gripper_actuators=FINGER_ACTUATORS,
             gripper_closed=1.0,
             gripper_open=-1.0,
-            site="rightEndEffector",
+            site=GRIP_SITE,
             dt=dt,
+            ee_rotation=FixedRotation(np.eye(3)),
         )
+
+    def hold_rotation(self) -> None:
+        """Make the grip site's present rotation the one the end-effector modes hold."""
+        self.ee_rotation = FixedRotation(self.data.site_xmat[self.site_id].reshape(3, 3).copy())
 
     def set_gripper(self, command: float) -> None:
         self.data.ctrl[self.gripper_ids] = (-command, command)
