@@ -21,7 +21,8 @@ FAMILIES = (arm4, fetch, shadow_hand, robosuite_tasks, adroit, metaworld)
 for _spec in (spec for family in FAMILIES for spec in family.SPECS):
     register_task(_spec)
 for _family in FAMILIES:  # named task lists (a bench grid's tasks: metaworld:MT10)
-    if getattr(_family, "TASK_LISTS", None):
+    # vars(), not getattr: a family's lazy __getattr__ would import its simulator for a miss.
+    if vars(_family).get("TASK_LISTS"):
         register_task_lists(_family.SPECS[0].family, _family.TASK_LISTS)
 
 #: The IDs the installed family plugins added.
