@@ -11,7 +11,8 @@ def _goal_layout(distance: SubtaskDistance) -> str:
     rows = []
     for name, s in zip(distance.subtasks, distance.slices):
         where = f"{s.start}" if s.stop - s.start == 1 else f"{s.start}-{s.stop - 1}"
-        rows.append(f"    {where:<6} {name}: {DESCRIPTIONS[name]}")
+        what, units = DESCRIPTIONS[name]
+        rows.append(f"    {where:<6} {name + ': ' + what:<90} {units}")
     return "\n".join(rows)
 
 
@@ -44,8 +45,7 @@ joint's amplitude on the robot, 0.0005 on the kitchen's joints), drawn from the 
 seeded generator:
     0-8    arm and finger joint positions                          rad, m
     9-17   arm and finger joint velocities                         rad/s, m/s
-    18-38  the kitchen's qpos (burners, light, cabinets,           rad, m, -
-           microwave, kettle position and quaternion)
+    18-38  the kitchen's qpos: knobs, burners, light, cabinets, microwave, kettle pose  rad, m, -
     39-58  the kitchen's qvel                                       rad/s, m/s
 
 Action modes (native: 9 entries in [-1, 1], the 7 arm joints then the 2 fingers; the

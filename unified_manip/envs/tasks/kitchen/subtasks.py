@@ -48,14 +48,14 @@ TARGETS: dict[str, tuple[float, ...]] = {
 }
 
 #: What each subtask asks, and its joints' units (for the task pages).
-DESCRIPTIONS: dict[str, str] = {
-    "bottom burner": "turn the bottom burner's knob (knob angle rad, burner slide m)",
-    "top burner": "turn the top burner's knob (knob angle rad, burner slide m)",
-    "light switch": "turn the light on (switch angle rad, light slide m)",
-    "slide cabinet": "slide the cabinet's door open (slide m)",
-    "hinge cabinet": "swing the left hinge cabinet's door open (both doors' hinges, rad)",
-    "microwave": "swing the microwave's door open (hinge rad)",
-    "kettle": "move the kettle to the top left burner (position m, quaternion w, x, y, z)",
+DESCRIPTIONS: dict[str, tuple[str, str]] = {
+    "bottom burner": ("turn the bottom burner's knob: knob angle, burner slide", "rad, m"),
+    "top burner": ("turn the top burner's knob: knob angle, burner slide", "rad, m"),
+    "light switch": ("turn the light on: switch angle, light slide", "rad, m"),
+    "slide cabinet": ("slide the cabinet's door open: slide", "m"),
+    "hinge cabinet": ("swing the left hinge cabinet open: both doors' hinges", "rad"),
+    "microwave": ("swing the microwave's door open: hinge", "rad"),
+    "kettle": ("move the kettle to the top left burner: position, quaternion (w, x, y, z)", "m, -"),
 }
 
 #: D4RL's kitchen tasks (and Minari's kitchen datasets): the microwave, the kettle, the
