@@ -24,20 +24,6 @@ replays, in upstream's order:
 ``_model_names`` (set)    upstream's name-to-id tables, rebuilt when Fetch's joint modes swap
                           in a model with joint actuators (:func:`replace_model`)
 ========================  ==================================================================
-
-FrankaKitchen's ``KitchenEnv`` is no ``BaseRobotEnv``: it holds a ``FrankaRobot`` (a
-gymnasium ``MujocoEnv``) as ``robot_env``, whose generator draws the observation noise.
-The kitchen backend replays its ``reset`` and ``step`` with these:
-
-==============================================  ====================================================
-``robot_env._np_random`` (set)                  the generator of the observation noise: set to
-                                                ours (:func:`kitchen_seed`)
-``robot_env._ctrl_velocity_limits(v)``,         upstream's joint-velocity control: the position
-``robot_env._ctrl_position_limits(q)``          target from the last noisy observation, clipped
-                                                (:func:`kitchen_controls`; the ``native`` mode)
-``robot_env._get_obs()``, ``_get_obs(robot)``   the robot's and the kitchen's noisy observation
-                                                (:func:`kitchen_observation`)
-==============================================  ====================================================
 """
 
 from __future__ import annotations
@@ -88,20 +74,3 @@ def replace_model(env: Any, model: Any, data: Any) -> None:
 
     env.model, env.data = model, data
     env._model_names = MujocoModelNames(model)
-
-
-def kitchen_seed(env: Any, np_random: np.random.Generator) -> None:
-    """Make ``np_random`` the generator of a ``KitchenEnv``'s observation noise."""
-    env.robot_env._np_random = np_random
-
-
-def kitchen_controls(env: Any, action: np.ndarray) -> np.ndarray:
-    """The servo targets upstream's ``FrankaRobot.step`` computes from a clipped ``action``."""
-    robot = env.robot_env
-    return robot._ctrl_position_limits(robot._ctrl_velocity_limits(robot.act_mid + action * robot.act_rng))
-
-
-def kitchen_observation(env: Any) -> dict[str, Any]:
-    """A ``KitchenEnv``'s observation dict now (it draws the noise, and records the robot's
-    noisy joint positions that the next ``native`` action starts from)."""
-    return env._get_obs(env.robot_env._get_obs())

@@ -1,5 +1,7 @@
-"""The kitchen backend: upstream's ``KitchenEnv`` (model, reset, noisy observation) under
-its action modes, with the subtasks' goals of :mod:`.subtasks`."""
+"""The kitchen backend: upstream's ``KitchenEnv`` (model, initial state, configuration)
+under its action modes, with its noisy observation read as upstream's (:mod:`.readout`)
+and the subtasks' goals of :mod:`.subtasks`. It calls no private member of upstream's env:
+upstream's generator is not used (the noise is drawn from the env's own)."""
 
 from __future__ import annotations
 
@@ -15,9 +17,9 @@ from unified_manip.envs.lazy import resolve
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
 from unified_manip.envs.rendering import Renderer
-from unified_manip.envs.tasks import upstream_private as private
 from unified_manip.envs.tasks.kitchen import observations as obs_groups
 from unified_manip.envs.tasks.kitchen.cameras import SCENE
+from unified_manip.envs.tasks.kitchen.readout import KitchenReadout
 from unified_manip.envs.tasks.kitchen.rig import EE_SITE, actuated_model, franka_rig
 from unified_manip.envs.tasks.kitchen.subtasks import SubtaskDistance
 from unified_manip.envs.tasks.upstream import pickle_upstream, unpickle_upstream
@@ -50,6 +52,8 @@ class KitchenBackend(Backend):
         robot = up.robot_env
         self.dt = robot.dt
         self._frames = robot.frame_skip
+        self._readout = KitchenReadout(up)
+        self._rng: np.random.Generator | None = None
         if self._native:
             self.action_dim = robot.model.nu
         else:  # the shared controllers run on the copy with gravity compensation (.rig)
@@ -60,7 +64,7 @@ class KitchenBackend(Backend):
             self.control = controller.build(self.rig)
             self.action_dim = self.control.action_dim
         self.ee_site = up.model.site(EE_SITE).id
-        self._obs: dict[str, Any] | None = None
+        self._obs: dict[str, np.ndarray] | None = None
         self._unstable = False
         self._renderer = Renderer(config.render_mode, width, height, SCENE)
 
@@ -88,26 +92,33 @@ class KitchenBackend(Backend):
     def reset(self, np_random: np.random.Generator) -> None:
         """Upstream's reset: the fixed initial state, then the noisy observation drawn from
         ``np_random`` (the episode's only randomness)."""
-        private.kitchen_seed(self._up, np_random)
+        self._rng = np_random
         self._place_initial_state()
         if not self._native:
             self.control.reset()
-        self._obs = private.kitchen_observation(self._up)
+        self._read()
         self._unstable = False
 
     def step(self, action: np.ndarray) -> dict[str, Any]:
         before = bad_state_warnings(self.data)
-        robot = self._up.robot_env
         if self._native:  # upstream's FrankaRobot.step
-            robot.do_simulation(private.kitchen_controls(self._up, action), self._frames)
+            self.data.ctrl[:] = self._readout.controls(action)
             diagnostics: dict[str, Any] = {}
         else:
             diagnostics = self.control(action)
-            mujoco.mj_step(robot.model, robot.data, nstep=self._frames)
-            mujoco.mj_rnePostConstraint(robot.model, robot.data)
+        self.physics_step()
         self._unstable = bad_state_warnings(self.data) > before
-        self._obs = private.kitchen_observation(self._up)
+        self._read()
         return diagnostics
+
+    def physics_step(self) -> None:
+        """Upstream's ``do_simulation``: ``frame_skip`` substeps, then ``mj_rnePostConstraint``."""
+        m, d = self.model, self.data
+        mujoco.mj_step(m, d, nstep=self._frames)
+        mujoco.mj_rnePostConstraint(m, d)
+
+    def _read(self) -> None:
+        self._obs = {"observation": self._readout.observation(self.data, self._rng)}
 
     def unstable(self) -> bool:
         return self._unstable
