@@ -7,6 +7,7 @@ from __future__ import annotations
 import gymnasium as gym
 import gymnasium_robotics
 import numpy as np
+import pytest
 from conftest import make
 
 import unified_manip
@@ -122,3 +123,13 @@ def test_fixtures_entity_randomises_the_doors():
     finally:
         env.close()
         nominal.close()
+
+
+def test_an_unknown_or_repeated_subtask_names_the_valid_ones():
+    from unified_manip.envs.tasks.kitchen.specs import kitchen_spec
+
+    for subtasks in (("fridge",), ("kettle", "kettle"), ()):
+        with pytest.raises(
+            ValueError, match=r"kitchen subtasks must be distinct names from 'bottom burner', .*'kettle'"
+        ):
+            kitchen_spec("FrankaKitchenX", subtasks)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from unified_manip.envs.controllers.docs import modes_section
 from unified_manip.envs.tasks.kitchen.controllers import CONTROLLERS
-from unified_manip.envs.tasks.kitchen.subtasks import BONUS_THRESH, DESCRIPTIONS, SubtaskDistance
+from unified_manip.envs.tasks.kitchen.subtasks import BONUS_THRESH, D4RL_SUBTASKS, DESCRIPTIONS, SubtaskDistance
 
 
 def _goal_layout(distance: SubtaskDistance) -> str:
@@ -19,9 +19,9 @@ def _goal_layout(distance: SubtaskDistance) -> str:
 def kitchen_doc(name: str, distance: SubtaskDistance) -> str:
     """The page of a kitchen task whose goal is ``distance.subtasks``."""
     subtasks = ", ".join(distance.subtasks)
+    d4rl = ", D4RL's kitchen tasks" if distance.subtasks == D4RL_SUBTASKS else ""
     return f"""{name}: with the Franka arm in a kitchen, complete the subtasks {subtasks}
-(gymnasium-robotics FrankaKitchen-v1 with tasks_to_complete={list(distance.subtasks)!r},
-D4RL's kitchen tasks).
+(gymnasium-robotics FrankaKitchen-v1 with tasks_to_complete={list(distance.subtasks)!r}{d4rl}).
 
 Starting state: upstream's fixed initial state (the doors closed, the burners and the
 light off, the kettle on the bottom left burner), the same every episode; the seed draws
