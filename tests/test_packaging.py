@@ -144,7 +144,7 @@ def test_the_base_install_is_the_env_library_alone(wheel, tmp_path):
     assert _python(code, cwd=work, python=python).splitlines() == [
         "2",
         "[]",
-        "['adroit', 'arm4', 'fetch', 'shadow_hand']",
+        "['adroit', 'arm4', 'fetch', 'kitchen', 'shadow_hand']",
     ]
     env = no_checkout_env()
     train = subprocess.run(

@@ -21,6 +21,7 @@ FAMILIES = (
     ("UnifiedManip/FetchPush-v0", "external_camera_0"),
     ("UnifiedManip/Lift-v0", None),
     ("UnifiedManip/HandReach-v0", None),
+    ("UnifiedManip/FrankaKitchen-v0", None),
 )
 
 

@@ -17,6 +17,7 @@ from unified_manip.envs.randomization import PRESETS, RandomizationTerm, distrib
 from unified_manip.envs.registry import TASKS
 
 ARM = "UnifiedManip/Arm4PickAndPlace-v0"
+KITCHEN = "UnifiedManip/FrankaKitchen-v0"
 TRAINING_PRESETS = ("dynamics", "objects", "visual", "all")
 EVERY_PRESET = (*TRAINING_PRESETS, *(f"{p}:extreme" for p in TRAINING_PRESETS))
 
@@ -151,6 +152,7 @@ def test_every_preset_has_an_extreme_counterpart_beyond_its_ranges():
         ("UnifiedManip/FetchPickAndPlace-v0", {"object.shape", "object.size", "table.friction", "camera.camera_pose"}),
         ("UnifiedManip/HandManipulateBlock-v0", {"object.mass", "robot.actuator_gain", "light.light"}),
         ("UnifiedManip/Lift-v0", {"object.shape", "object.size", "table.rgba", "robot.armature"}),
+        (KITCHEN, {"object.mass", "table.friction", "robot.actuator_gain", "light.light"}),
     ],
 )
 def test_preset_all_reaches_every_family_through_its_entities(task_id, expected):
@@ -169,7 +171,8 @@ def test_preset_all_reaches_every_family_through_its_entities(task_id, expected)
 
 
 def test_every_task_declares_entities():
-    assert all(spec.entities for spec in TASKS.values() if spec.family in ("arm4", "fetch", "shadow_hand", "robosuite"))
+    families = ("arm4", "fetch", "shadow_hand", "robosuite", "kitchen")
+    assert all(spec.entities for spec in TASKS.values() if spec.family in families)
 
 
 # ---------------------------------------------------------------------- none changes nothing
@@ -206,7 +209,7 @@ def test_the_same_seed_gives_the_same_rollout_under_every_preset(preset):
             e.close()
 
 
-@pytest.mark.parametrize("task_id", ["UnifiedManip/FetchPickAndPlace-v0", "UnifiedManip/Lift-v0"])
+@pytest.mark.parametrize("task_id", ["UnifiedManip/FetchPickAndPlace-v0", "UnifiedManip/Lift-v0", KITCHEN])
 def test_the_same_seed_gives_the_same_rollout_on_other_families(task_id):
     envs = [_make(task_id, action_mode="ee_delta", randomization="all") for _ in range(2)]
     try:
