@@ -62,3 +62,22 @@ ENTITIES: dict[str, dict[str, Entity]] = {
 #: a frame and a tool) are not named yet, so terms on ``object`` are refused there.
 for _name in ("NutAssemblySquare", "PickPlaceMilk", "PickPlaceBread", "PickPlaceCereal", "Wipe", "ToolHang"):
     ENTITIES[_name] = dict(_SHARED)
+
+#: The two-arm tasks: both robots (``robot0``, ``robot1``) and their grippers, and the object.
+_TWO_ROBOTS = Entity(
+    bodies=r"(robot\d|gripper\d)_.*",
+    geoms=r"(robot\d|gripper\d)_.*",
+    joints=r"robot\d_joint\d|gripper\d_.*",
+    actuators=r"(robot\d|gripper\d)_.*",
+    doc="both arms and their grippers: joints, actuators, links",
+)
+ENTITIES["TwoArmLift"] = {
+    "object": Entity(bodies="pot_root", geoms="pot_.*", doc="the pot and its two handles"),
+    **_SHARED,
+    "robot": _TWO_ROBOTS,
+}
+ENTITIES["TwoArmHandover"] = {
+    "object": Entity(bodies="hammer_root", geoms="hammer_.*", doc="the hammer: handle, neck and head"),
+    **_SHARED,
+    "robot": _TWO_ROBOTS,
+}

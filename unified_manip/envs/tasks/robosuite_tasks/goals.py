@@ -18,14 +18,20 @@ class RobosuiteTask:
         env_name: robosuite's env name.
         achieved: The achieved goal from the upstream env.
         sample_goal: ``(upstream env, np_random) -> desired goal``, called after reset.
-        object_pos: The object the gripper must reach (for ``grip_to_object``).
-        grasp_object: The robosuite object whose grasp ``grasped`` reports, or None.
+        object_pos: The object the gripper must reach (for ``grip_to_object``); with
+            several ``reachers``, one row per reacher, ``(k, 3)``.
+        grasp_object: The robosuite object whose grasp ``grasped`` reports, or None; with
+            several ``reachers``, one per reacher (``grasped``: every one holds its own).
         ee_turn: The gripper orientation ``ee_delta`` holds: the grip site's orientation
             at reset turned by this rotation (a rotation vector in the world frame, rad).
             Zero holds the reset orientation (gripper pointing down).
         goal_is_success: robosuite's ``_check_success()`` is "the achieved goal equals the
             desired goal": ``native_success`` is read off the achieved goal of the step
             instead of running the checks again.
+        robots: How many robots robosuite's env takes (2 for the two-arm tasks).
+        reachers: The robots whose grip sites ``grip_to_object`` measures (the largest of
+            their distances to their rows of ``object_pos``) and whose grasps ``grasped``
+            checks.
     """
 
     env_name: str
@@ -35,6 +41,15 @@ class RobosuiteTask:
     grasp_object: Callable[[Any], Any] | None
     ee_turn: tuple[float, float, float] = (0.0, 0.0, 0.0)
     goal_is_success: bool = False
+    robots: int = 1
+    reachers: tuple[int, ...] = (0,)
+
+    def grasp_objects(self, up) -> tuple[Any, ...] | None:
+        """One grasp object per reacher, or None."""
+        if self.grasp_object is None:
+            return None
+        held = self.grasp_object(up)
+        return tuple(held) if len(self.reachers) > 1 else (held,)
 
     def held_rotation(self, reset_rotation: np.ndarray) -> np.ndarray:
         """The grip-site rotation matrix ``ee_delta`` holds, given the one at reset."""
