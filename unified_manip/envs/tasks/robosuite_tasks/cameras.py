@@ -29,7 +29,6 @@ ROBOT_CAMERAS: tuple[str, ...] = ("robotview", "eye_in_hand")
 COLLISION_SUFFIX = "_collision"
 
 
-
 def cameras_of(robots: int) -> dict[str, CameraConfig]:
     """The cameras of a scene of ``robots`` robots: :data:`CAMERA_NAMES`, the later robots'
     own, then each again as ``<name>_collision``."""

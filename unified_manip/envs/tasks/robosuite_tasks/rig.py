@@ -20,8 +20,8 @@ class SuiteRig:
     Args:
         up: The robosuite env.
         joints: The arm joints, their ranges and the grip site.
-        held_rotation: Maps the grip site's rotation at reset to the one the end-effector
-            modes hold (the task's choice).
+        held_rotation: Maps the grip site's rotation at reset (and the env) to the one the
+            end-effector modes hold (the task's choice).
         robot: Which of ``up.robots``.
         pending: The robot's part of the step's action (written in place).
     """
@@ -72,7 +72,7 @@ class SuiteRig:
             c.output_max, c.output_min = c.actuator_max.copy(), c.actuator_min.copy()
             c.input_max, c.input_min = c.actuator_max.copy(), c.actuator_min.copy()
             c.action_scale = None
-        self.rotation = self._held_rotation(self.data.site_xmat[self.site_id].reshape(3, 3))
+        self.rotation = self._held_rotation(self.data.site_xmat[self.site_id].reshape(3, 3), self._up)
 
     def command(self, arm: np.ndarray, gripper: float | None) -> None:
         command = self.pending

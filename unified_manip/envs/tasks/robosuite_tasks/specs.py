@@ -74,7 +74,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         ("Wipe", "push", 1, 500, 0.005, WIPE_DOC, None, None),
         ("ToolHang", "push", 2, 700, 0.5, TOOL_HANG_DOC, None, None),
         # Two Pandas: the pot to a point 16-22 cm up; the hammer's handover flags.
-        ("TwoArmLift", "grasp", 3, 150, 0.05, TWO_ARM_LIFT_DOC, two_arm_lift_policy, None, 2),
+        ("TwoArmLift", "push", 3, 150, 0.05, TWO_ARM_LIFT_DOC, two_arm_lift_policy, None, 2),
         ("TwoArmHandover", "push", 3, 300, 0.5, TWO_ARM_HANDOVER_DOC, None, None, 2),
     )
 )

@@ -40,6 +40,14 @@ def _pot_handles(up) -> np.ndarray:
     return np.stack((sites[up.handle0_site_id], sites[up.handle1_site_id]))
 
 
+def _pot_yaw(up) -> float:
+    """How far the pot is turned about z from robosuite's nominal placement (yaw pi, the
+    handles on the line between the robots), rad: the grippers turn as much, so their
+    fingers close across the handles' bars."""
+    v = _pot_handles(up)[0] - _pot_handles(up)[1]  # nominally along -y
+    return float(np.arctan2(v[0], -v[1])) + np.pi / 2
+
+
 def _handle_geoms(up) -> tuple:
     return (up.pot.handle0_geoms, up.pot.handle1_geoms)
 
@@ -63,7 +71,7 @@ def _handle_of_hammer(up):
 
 TWO_ARM_TASK_DEFS: dict[str, RobosuiteTask] = {
     "TwoArmLift": RobosuiteTask(
-        "TwoArmLift", _pot_center, _pot_goal, _pot_handles, _handle_geoms, robots=2, reachers=(0, 1)
+        "TwoArmLift", _pot_center, _pot_goal, _pot_handles, _handle_geoms, robots=2, reachers=(0, 1), ee_yaw=_pot_yaw
     ),
     "TwoArmHandover": RobosuiteTask(
         "TwoArmHandover",
