@@ -1,8 +1,9 @@
-"""robosuite's two-arm tasks: both arms under every mode's action, parity with
-robosuite.make, TwoArmHandover's success as robosuite's, TwoArmLift's scripted lift.
+"""robosuite's two-arm tasks: both arms under one action, TwoArmHandover's success as
+robosuite's, TwoArmLift's scripted lift.
 
-Real robosuite 1.5.2, no mocks. (The contract suites and golden rollouts cover both IDs
-through the registry.) Each test builds one env or two: a two-arm env takes ~0.3 s.
+Real robosuite 1.5.2, no mocks. (The contract suites, the golden rollouts and the parity
+with robosuite.make, tests/envs/test_robosuite.py, cover both IDs through the registry.)
+Each test builds one env: a two-arm env takes ~0.3 s.
 """
 
 from __future__ import annotations
@@ -14,39 +15,10 @@ import numpy as np
 import pytest
 
 import unified_manip
-from unified_manip.envs.tasks import robosuite_tasks as rt
 
 pytestmark = pytest.mark.robosuite  # every test here needs the robosuite extra
 
 LIFT, HANDOVER = "UnifiedManip/TwoArmLift-v0", "UnifiedManip/TwoArmHandover-v0"
-
-
-@pytest.mark.parametrize("name", ["TwoArmLift", "TwoArmHandover"])
-def test_native_matches_robosuite_make(name):
-    """Same seed and actions: robosuite.make's observations, reward and success, bit for bit."""
-    import robosuite
-
-    env = gym.make(f"UnifiedManip/{name}-v0", action_mode="native")
-    obs, _ = env.reset(seed=3)
-    seed, _ = env.unwrapped._backend._episode
-    up = robosuite.make(
-        name,
-        robots=["Panda", "Panda"],
-        controller_configs=robosuite.load_composite_controller_config(controller="BASIC", robot="Panda"),
-        **rt.UPSTREAM_KWARGS,
-    )
-    up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
-    keys = ("robot0_proprio-state", "robot1_proprio-state", "object-state")
-    flat = lambda o: np.concatenate([o[k] for k in keys]).astype(np.float32)  # noqa: E731
-    np.testing.assert_array_equal(obs["observation"], flat(up.reset()))
-    for a in np.random.default_rng(0).uniform(-1, 1, (10, up.action_dim)).astype(np.float32):
-        obs, _, _, _, info = env.step(a)
-        ref, ref_reward, _, _ = up.step(a.astype(np.float64))
-        np.testing.assert_array_equal(obs["observation"], flat(ref))
-        assert info["native_reward"] == ref_reward
-        assert info["native_success"] == float(up._check_success())
-    up.close()
-    env.close()
 
 
 def test_every_mode_acts_on_both_arms_and_a_wrong_shape_names_it():
