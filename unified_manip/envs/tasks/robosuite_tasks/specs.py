@@ -31,6 +31,9 @@ _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 #: by ``unified-manip collect`` (docs/datasets.md).
 STABILITY_STEPS = 200
 SCRIPTED_EPISODES = 10
+#: The two-arm tasks step two arms' controllers (two IKs in the ee modes): ~30-60 steps/s
+#: here, so their stability test plays fewer steps in the same time.
+TWO_ARM_STABILITY_STEPS = 60
 
 
 def _spec(name, term_set, goal_dim, steps, threshold, doc, policy, min_success, robots=1) -> TaskSpec:
@@ -50,7 +53,7 @@ def _spec(name, term_set, goal_dim, steps, threshold, doc, policy, min_success, 
         cameras=cameras_of(robots),
         entities=ENTITIES[name],
         scripted_episodes=SCRIPTED_EPISODES,
-        stability_steps=STABILITY_STEPS,
+        stability_steps=STABILITY_STEPS if robots == 1 else TWO_ARM_STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",
         make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native", robots),
         extra="robosuite",
