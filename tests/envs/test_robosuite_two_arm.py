@@ -1,5 +1,5 @@
 """robosuite's two-arm tasks: both arms under one action, TwoArmHandover's success as
-robosuite's, TwoArmLift's scripted lift.
+robosuite's along its scripted handover, TwoArmLift's scripted lift.
 
 Real robosuite 1.5.2, no mocks. (The contract suites, the golden rollouts and the parity
 with robosuite.make, tests/envs/test_robosuite.py, cover both IDs through the registry.)
@@ -40,17 +40,24 @@ def test_every_mode_acts_on_both_arms_and_a_wrong_shape_names_it():
 
 
 def test_handover_success_is_robosuites_check():
-    """The achieved goal is robosuite's three checks, step by step; of the eight flag
-    combinations exactly robosuite's success condition is within the threshold."""
+    """Along the scripted handover (seed 1000), the achieved goal is robosuite's three checks
+    and is_success is robosuite's success at every step, before and after the handover; of
+    the eight flag combinations exactly robosuite's success condition is within the threshold."""
     env = gym.make(HANDOVER, action_mode="ee_delta")
-    obs, info = env.reset(seed=1)
+    spec = unified_manip.TASKS[HANDOVER]
+    policy = spec.scripted_policy("ee_delta")
+    obs, info = env.reset(seed=1000)
     up = env.unwrapped._backend._up
-    for a in np.random.default_rng(0).uniform(-1, 1, (10, 8)).astype(np.float32):
-        obs, _, _, _, info = env.step(a)
+    seen = []
+    for _ in range(spec.max_episode_steps):
+        obs, _, _, _, info = env.step(policy(obs))
         arm0, arm1, hammer_z, table_z = up._get_task_info()
         np.testing.assert_array_equal(obs["achieved_goal"], [arm0, arm1, hammer_z - table_z > 0.1])
         assert info["is_success"] == info["native_success"] == float(up._check_success())
-    spec = unified_manip.TASKS[HANDOVER]
+        seen.append(tuple(obs["achieved_goal"]))
+        if seen[-5:] == [(0.0, 1.0, 1.0)] * 5:  # handed over, and held
+            break
+    assert (1.0, 0.0, 1.0) in seen and seen[-1] == (0.0, 1.0, 1.0)  # arm 0 lifted it, arm 1 took it
     for arm0, arm1, lifted in itertools.product((0.0, 1.0), repeat=3):
         d = spec.goal_distance(np.array([arm0, arm1, lifted]), obs["desired_goal"])
         assert (d < spec.distance_threshold) == (arm1 and not arm0 and lifted)

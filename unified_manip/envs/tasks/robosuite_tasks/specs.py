@@ -20,7 +20,7 @@ from unified_manip.envs.tasks.robosuite_tasks.more_docs import (
 from unified_manip.envs.tasks.robosuite_tasks.more_policies import bread_policy, cereal_policy, milk_policy, nut_policy
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
 from unified_manip.envs.tasks.robosuite_tasks.two_arm_docs import TWO_ARM_HANDOVER_DOC, TWO_ARM_LIFT_DOC
-from unified_manip.envs.tasks.robosuite_tasks.two_arm_policies import two_arm_lift_policy
+from unified_manip.envs.tasks.robosuite_tasks.two_arm_policies import two_arm_handover_policy, two_arm_lift_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
@@ -78,6 +78,6 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         ("ToolHang", "push", 2, 700, 0.5, TOOL_HANG_DOC, None, None),
         # Two Pandas: the pot to a point 16-22 cm up; the hammer's handover flags.
         ("TwoArmLift", "push", 3, 150, 0.05, TWO_ARM_LIFT_DOC, two_arm_lift_policy, None, 2),
-        ("TwoArmHandover", "push", 3, 300, 0.5, TWO_ARM_HANDOVER_DOC, None, None, 2),
+        ("TwoArmHandover", "push", 3, 300, 0.5, TWO_ARM_HANDOVER_DOC, two_arm_handover_policy, None, 2),
     )
 )

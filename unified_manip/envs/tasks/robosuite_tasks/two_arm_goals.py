@@ -5,7 +5,8 @@ facing each other across the table (robosuite's default ``opposed`` configuratio
   ``pot_center`` site, m, world frame); the desired goal is that point at reset raised by
   U(0.16, 0.22) m. Within the 5 cm threshold the pot's bottom is then more than 10 cm above
   the table, which is robosuite's own success (``native_success``), so success here implies
-  robosuite's. Both arms reach: ``grip_to_object`` is the farther of each gripper's distance
+  robosuite's. The ee modes turn both grippers with the pot at reset (``ee_yaw``), so their
+  fingers close across the handles' bars. Both arms reach: ``grip_to_object`` is the farther of each gripper's distance
   to its own handle (arm 0 to handle 0, arm 1 to handle 1), and ``grasped`` is 1 while each
   gripper holds its own handle (robosuite's grasp check).
 * **TwoArmHandover:** the hammer starts on the table by arm 0; robosuite's success is "arm 1
@@ -14,7 +15,8 @@ facing each other across the table (robosuite's default ``opposed`` configuratio
   them: achieved ``(arm 0 holds the hammer, arm 1 holds its handle, hammer lifted)`` as 0/1,
   desired ``(0, 1, 1)``, within 0.5: every flag must match, so ``is_success`` is exactly
   robosuite's ``_check_success()`` (``goal_is_success``). The reach term draws arm 1 to the
-  handle and ``grasped`` is arm 1's grasp of it.
+  handle and ``grasped`` is arm 1's grasp of it. The ee modes turn both grippers with the
+  handle at reset (``ee_yaw``), so their fingers close across it.
 """
 
 from __future__ import annotations
@@ -65,6 +67,13 @@ def _hammer_handle(up) -> np.ndarray:
     return up.sim.data._data.geom_xpos[up.hammer_handle_geom_id]
 
 
+def _handle_yaw(up) -> float:
+    """The hammer handle's heading about z at reset, turned a quarter (rad): the grippers
+    turn as much, so their fingers close across the handle."""
+    axis = up.sim.data._data.geom_xmat[up.hammer_handle_geom_id].reshape(3, 3)[:, 2]
+    return float(np.arctan2(-axis[1], -axis[0])) + np.pi / 2
+
+
 def _handle_of_hammer(up):
     return up.hammer.handle_geoms
 
@@ -82,5 +91,6 @@ TWO_ARM_TASK_DEFS: dict[str, RobosuiteTask] = {
         goal_is_success=True,
         robots=2,
         reachers=(1,),
+        ee_yaw=_handle_yaw,
     ),
 }
