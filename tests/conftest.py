@@ -42,19 +42,27 @@ GRIDS = Path(__file__).resolve().parents[1] / "baselines" / "grids"
 #: Every committed grid that loads in a fresh clone: all of ``baselines/grids`` but
 #: ``studies/``, whose grids read datasets made by ``baselines/grids/studies/make_datasets.sh``.
 COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.relative_to(GRIDS).parts)
-#: The families whose per-mode contracts take a sample of their action modes, for CI time
-#: (golden_hashes.json keeps every mode's hashes; ``golden.py`` plays them all): the
-#: kitchen's 40-substep steps make each mode's cases cost seconds. Its sample is upstream's
-#: controller (native) and one of the modes on its actuated copy (ee_delta: the rig, the
-#: model copy and mink); its joint modes are the shared controllers other families test.
+#: The families and IDs whose per-mode contracts (test_envs.py's ``case`` and ``pair``
+#: fixtures, and the golden rollouts replayed) take a sample of their action modes, for CI
+#: time. Every mode of each passed the contracts when it was added, and golden_hashes.json
+#: keeps every mode's hashes (``golden.py`` plays them all). An ID's entry wins over its
+#: family's.
+#: - The kitchen: its 40-substep steps make each mode's cases cost seconds. Its sample is
+#:   upstream's controller (native) and one mode on its actuated copy (ee_delta: the rig,
+#:   the model copy and mink); its joint modes are the shared controllers other families test.
+#: - The two-arm robosuite IDs drive two arms' controllers (two IKs in the ee modes): one
+#:   mode's contracts took ~17 s on the loaded 2-core machine. The sample holds one mode of
+#:   each kind of controller on two arms: ee (PerRig of two IKs) and joint.
 SAMPLED_MODES: dict[str, tuple[str, ...]] = {
     "kitchen": ("native", "ee_delta"),
+    "UnifiedManip/TwoArmLift-v0": ("ee_delta",),
+    "UnifiedManip/TwoArmHandover-v0": ("joint_position",),
 }
 
 
 def _modes(task_id: str) -> tuple[str, ...]:
     spec = unified_manip.TASKS[task_id]
-    sample = SAMPLED_MODES.get(spec.family)
+    sample = SAMPLED_MODES.get(task_id, SAMPLED_MODES.get(spec.family))
     return tuple(m for m in spec.action_modes if sample is None or m in sample)
 
 

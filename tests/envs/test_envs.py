@@ -324,8 +324,10 @@ def test_bad_action_shape_and_values(pair):
     n = env.action_space.shape[0]
     with pytest.raises(ValueError) as err:
         env.step(np.zeros(n + 1, np.float32))
+    layout = env.unwrapped.backend.action_layout  # "2 × (3 + 1)" on two arms, else ""
     assert str(err.value) == (
-        f"action must have shape ({n},) for {task_id} with action_mode={mode!r}, got shape ({n + 1},)"
+        f"action must have shape ({n},){f' ({layout})' if layout else ''} for {task_id} "
+        f"with action_mode={mode!r}, got shape ({n + 1},)"
     )
     bad = np.zeros(n, np.float32)
     bad[0] = np.nan

@@ -31,6 +31,8 @@ NAMES = (
     "PickPlaceCereal",
     "Wipe",
     "ToolHang",
+    "TwoArmLift",
+    "TwoArmHandover",
 )
 IDS = [f"UnifiedManip/{n}-v0" for n in NAMES]
 
@@ -49,15 +51,17 @@ def test_native_matches_robosuite_make(name):
     backend = env.unwrapped._backend
     seed, _ = backend._episode
 
+    robots = rt.TASKS[name].robots  # two on the two-arm tasks
     up = robosuite.make(
         name,
-        robots="Panda",
+        robots=["Panda"] * robots,
         controller_configs=robosuite.load_composite_controller_config(controller="BASIC", robot="Panda"),
         **rt.UPSTREAM_KWARGS,
     )
     up.rng.bit_generator.state = np.random.default_rng(seed).bit_generator.state
     ref = up.reset()
-    flat = lambda o: np.concatenate((o["robot0_proprio-state"], o["object-state"])).astype(np.float32)  # noqa: E731
+    keys = [f"robot{i}_proprio-state" for i in range(robots)] + ["object-state"]
+    flat = lambda o: np.concatenate([o[k] for k in keys]).astype(np.float32)  # noqa: E731
     np.testing.assert_array_equal(obs["observation"], flat(ref))
     actions = np.random.default_rng(0).uniform(-1, 1, (30, up.action_dim)).astype(np.float32)
     for a in actions:

@@ -27,9 +27,12 @@ class Backend(abc.ABC):
         data: Its ``mujoco.MjData``, which the env steps.
         pickles_model: Pickling keeps the model as it is (randomised fields included);
             False for a backend that rebuilds its simulator when unpickled.
+        action_layout: The action's parts in words where it has several, e.g.
+            ``"2 × (3 + 1)"`` (two arms); a wrong-shaped action's error names it.
     """
 
     pickles_model: bool = True
+    action_layout: str = ""
     action_dim: int
     dt: float
     model: Any

@@ -96,8 +96,10 @@ class UnifiedManipEnv(GoalEnv):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float32)
         self.observation_space = spaces.Dict({key: observation_box(key, v) for key, v in obs.items()})
         self._action_shape = (n,)
+        layout = getattr(self._backend, "action_layout", "")  # e.g. "2 × (3 + 1)": two arms
         self._action_rule = (
-            f"action must have shape {(n,)} for {self.task.id} with action_mode={self.config.action_mode!r}"
+            f"action must have shape {(n,)}{f' ({layout})' if layout else ''} for {self.task.id} "
+            f"with action_mode={self.config.action_mode!r}"
         )
         self._last_obs = obs
         self._before: dict[str, float] = {}

@@ -3,6 +3,7 @@
 * :mod:`.configs`: one frozen config dataclass per mode (what a family declares);
 * :mod:`.joint` and :mod:`.ee`: the implementations (imported when a config is built);
 * :mod:`.rig`: the rig interface and :class:`~.rig.MujocoRig`;
+* :mod:`.composite`: one controller per rig under one action (two arms);
 * :mod:`.ik`: mink differential IK;
 * :mod:`.docs`: the mode tables of the task pages and the README, from the configs.
 

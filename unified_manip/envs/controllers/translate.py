@@ -62,6 +62,11 @@ class SiteTracker:
 
     def __init__(self, backend: Any, ee: EEDelta) -> None:
         control: Any = getattr(backend, "control", None)
+        if len(getattr(backend, "rigs", ())) > 1:
+            raise ValueError(
+                "ee_delta actions are played in other modes on one arm only; a task of several arms "
+                "(TwoArmLift) records its scripted policy in ee_delta"
+            )
         self.site_mode = hasattr(control, "site_action_toward")
         if not (self.site_mode or hasattr(control, "action_toward")):
             raise ValueError(

@@ -1,5 +1,7 @@
 """The robosuite family (robosuite 1.5.2): Lift, Stack, PickPlaceCan/Milk/Bread/Cereal,
-NutAssemblyRound/Square, Door, Wipe and ToolHang.
+NutAssemblyRound/Square, Door, Wipe and ToolHang; with two arms, TwoArmLift and
+TwoArmHandover (one rig and one controller of the mode per arm, their actions side by
+side: :mod:`unified_manip.envs.controllers.composite`).
 
 The backend owns one real robosuite env, built with ``robosuite.make`` exactly as a
 robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
@@ -29,7 +31,7 @@ robosuite user would (:func:`make_upstream`), and drives its ``step``/``reset``.
 
 Modules: :mod:`.options` (the ``robot`` option), :mod:`.cameras` (the image cameras), :mod:`.suite`
 (``robosuite.make`` and controller configs; imports robosuite), :mod:`.goals` and :mod:`.more_goals` (how each
-env becomes a goal task), :mod:`.backend`, :mod:`.policies` and :mod:`.more_policies`, :mod:`.docs` and
+env becomes a goal task) and :mod:`.two_arm_goals`, :mod:`.backend`, :mod:`.policies` and :mod:`.more_policies`, :mod:`.docs` and
 :mod:`.more_docs` (with :mod:`.doc_parts`), :mod:`.specs`. Their names can also be imported from this package
 (``from unified_manip.envs.tasks import robosuite_tasks as rt; rt.UPSTREAM_KWARGS``), as when
 the family was one module; they are imported on first access.
@@ -48,13 +50,16 @@ __getattr__, __dir__ = reexport(
         "rig",
         "suite",
         "goals",
+        "two_arm_goals",
         "more_goals",
         "backend",
         "policies",
         "more_policies",
+        "two_arm_policies",
         "doc_parts",
         "docs",
         "more_docs",
+        "two_arm_docs",
         "specs",
     ),
 )

@@ -12,6 +12,7 @@ import numpy as np
 from unified_manip.envs.backend import Backend
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
+from unified_manip.envs.controllers.composite import build_controller, part_layout
 from unified_manip.envs.controllers.ik import IKJoints
 from unified_manip.envs.observations import ObservationGroup
 from unified_manip.envs.physics import bad_state_warnings
@@ -47,26 +48,40 @@ class RobosuiteBackend(Backend):
         self.options = validate_options(dict(config.options))
         self.task = TASKS[task]
         self.mode = config.action_mode
-        up = make_upstream(self.task.env_name, self.options["robot"], self.mode)
+        up = make_upstream(self.task.env_name, self.options["robot"], self.mode, self.task.robots)
         self._up = up
         self.dt = float(up.control_timestep)
         self.model: mujoco.MjModel = up.sim.model._model
         self.data: mujoco.MjData = up.sim.data._data
-        robot = up.robots[0]
-        self._robot = robot
-        self._gripper = robot.gripper["right"]
-        self._grip_site = self.model.site(self._gripper.important_sites["grip_site"]).id
-        self.joints = IKJoints.from_model(
-            self.model, robot.robot_joints, self._gripper.important_sites["grip_site"], UNLIMITED_RANGE
-        )
-        self._grasp_object = self.task.grasp_object(up) if self.task.grasp_object else None
+        self._grippers = [robot.gripper["right"] for robot in up.robots]
+        sites = [g.important_sites["grip_site"] for g in self._grippers]
+        self._grip_sites = [self.model.site(site).id for site in sites]
+        self._grip_site = self._grip_sites[0]
+        joints = [
+            IKJoints.from_model(self.model, robot.robot_joints, site, UNLIMITED_RANGE)
+            for robot, site in zip(up.robots, sites)
+        ]
+        self.joints = joints[0]
+        self._reach = [(i, self._grip_sites[i], self._grippers[i]) for i in self.task.reachers]
+        self._grasp_objects = self.task.grasp_objects(up)
         self._native = self.mode == "native"
+        # Each robot's part of robosuite's action, in turn: arm, then gripper.
+        dims = [robot.action_dim for robot in up.robots]
+        grippers = [g.dof > 0 for g in self._grippers]
+        self.action_layout = part_layout(dims, grippers) if len(dims) > 1 else ""
         if self._native:
             self.action_dim = up.action_dim
         else:
-            self.rig = SuiteRig(up, self.joints, self.task.held_rotation)
-            self.control = controller.build(self.rig)
+            self._command = np.zeros(up.action_dim)
+            ends = np.cumsum(dims)
+            self.rigs = [
+                SuiteRig(up, j, self.task.held_rotation, i, self._command[e - d : e])
+                for i, (j, d, e) in enumerate(zip(joints, dims, ends))
+            ]
+            self.rig = self.rigs[0]
+            self.control = build_controller(controller, self.rigs)
             self.action_dim = self.control.action_dim
+            self.action_layout = getattr(self.control, "layout", "")
         self._groups, self._default = suite_groups(up)
         self._goal = np.zeros(0)
         self._achieved: np.ndarray | None = None  # the achieved goal of the current state, once read
@@ -105,7 +120,7 @@ class RobosuiteBackend(Backend):
             command, diagnostics = action, {}
         else:
             diagnostics = self.control(action)
-            command = self.rig.pending
+            command = self._command.copy()
         before = bad_state_warnings(self.data)
         self._obs, self._reward, _, _ = self._up.step(command)
         self._achieved = None
@@ -117,7 +132,9 @@ class RobosuiteBackend(Backend):
 
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
-        return np.concatenate((self._obs["robot0_proprio-state"], self._obs["object-state"]))
+        """Each robot's ``robotI_proprio-state``, then ``object-state``."""
+        obs = self._obs
+        return np.concatenate([obs[f"robot{i}_proprio-state"] for i in range(self.task.robots)] + [obs["object-state"]])
 
     def observation_groups(self) -> Mapping[str, ObservationGroup]:
         return self._groups
@@ -132,18 +149,29 @@ class RobosuiteBackend(Backend):
     def desired_goal(self) -> np.ndarray:
         return self._goal
 
+    def _reach_distances(self) -> list[float]:
+        """Each reacher's grip-site distance to its row of the task's ``object_pos``, m."""
+        targets = np.atleast_2d(self.task.object_pos(self._up))
+        out = []
+        for target, (_, site, _) in zip(targets, self._reach):
+            rel = target - self.data.site_xpos[site]
+            out.append(math.sqrt(float(rel @ rel)))
+        return out
+
     def grip_to_object(self) -> float:
-        rel = self.task.object_pos(self._up) - self.data.site_xpos[self._grip_site]
-        return math.sqrt(float(rel @ rel))
+        return max(self._reach_distances())
 
     def quantities(self) -> dict[str, float]:
-        """``grip_to_object`` (m) and ``grasped`` (robosuite's grasp check) of the task's
-        object (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
-        dist = self.grip_to_object()
-        if self._grasp_object is None or dist > GRASP_CHECK_RADIUS:  # skip the contact scan when far
+        """``grip_to_object`` (m; with several reachers, the farthest one's) and ``grasped``
+        (robosuite's grasp check; with several reachers, 1 while each holds its own) of the
+        task's object (:mod:`~unified_manip.envs.tasks.gripper_terms`)."""
+        dists = self._reach_distances()
+        dist = max(dists)
+        if self._grasp_objects is None or dist > GRASP_CHECK_RADIUS:  # skip the contact scan when far
             return {GRIP_TO_OBJECT: dist, GRASPED: 0.0}
-        held = float(self._up._check_grasp(gripper=self._gripper, object_geoms=self._grasp_object))
-        return {GRIP_TO_OBJECT: dist, GRASPED: held}
+        check = self._up._check_grasp
+        held = all(check(gripper=g, object_geoms=o) for (_, _, g), o in zip(self._reach, self._grasp_objects))
+        return {GRIP_TO_OBJECT: dist, GRASPED: float(held)}
 
     def extra_info(self) -> dict[str, Any]:
         if self.task.goal_is_success:  # the env has read the achieved goal of this state
@@ -173,7 +201,7 @@ class RobosuiteBackend(Backend):
         for robot in self._up.robots:
             robot.robot_model.mujoco_model = None
         self.model = self.data = None  # type: ignore[assignment]
-        self.rig = self.control = None  # they hold the model and data too
+        self.rig = self.rigs = self.control = None  # they hold the model and data too
 
     # -------------------------------------------------------------- pickling
     def __getstate__(self) -> dict[str, Any]:

@@ -17,6 +17,9 @@ CAMERA_NAMES: tuple[str, ...] = (
     "robot0_robotview",
     "robot0_eye_in_hand",
 )
+#: Each robot's own cameras: the two-arm tasks have ``robot1_robotview`` and
+#: ``robot1_eye_in_hand`` too.
+ROBOT_CAMERAS: tuple[str, ...] = ("robotview", "eye_in_hand")
 
 #: Each camera also as ``<name>_collision``: the same view drawing the collision geoms
 #: (group 0, in robosuite's debug colours) instead of the visual meshes. The Panda's and
@@ -25,6 +28,16 @@ CAMERA_NAMES: tuple[str, ...] = (
 #: without (one core, beside two training runs), where a Lift step takes about 11 ms.
 COLLISION_SUFFIX = "_collision"
 
-CAMERAS: dict[str, CameraConfig] = {
-    name: CameraConfig(SceneOptions(camera=name, hidden_geom_groups=(0,))) for name in CAMERA_NAMES
-} | {name + COLLISION_SUFFIX: CameraConfig(SceneOptions(camera=name, hidden_geom_groups=(1,))) for name in CAMERA_NAMES}
+
+def cameras_of(robots: int) -> dict[str, CameraConfig]:
+    """The cameras of a scene of ``robots`` robots: :data:`CAMERA_NAMES`, the later robots'
+    own, then each again as ``<name>_collision``."""
+    names = CAMERA_NAMES + tuple(f"robot{i}_{c}" for i in range(1, robots) for c in ROBOT_CAMERAS)
+    visual = {name: CameraConfig(SceneOptions(camera=name, hidden_geom_groups=(0,))) for name in names}
+    collision = {
+        name + COLLISION_SUFFIX: CameraConfig(SceneOptions(camera=name, hidden_geom_groups=(1,))) for name in names
+    }
+    return visual | collision
+
+
+CAMERAS: dict[str, CameraConfig] = cameras_of(1)

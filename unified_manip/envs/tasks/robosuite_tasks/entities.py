@@ -11,13 +11,16 @@ from __future__ import annotations
 
 from unified_manip.envs.randomization.entities import Entity
 
-_ROBOT = Entity(
-    bodies=r"(robot0|gripper0)_.*",
-    geoms=r"(robot0|gripper0)_.*",
-    joints=r"robot0_joint\d|gripper0_.*",
-    actuators=r"(robot0|gripper0)_.*",
-    doc="the arm and its gripper: joints, actuators, links",
-)
+
+def _robots(index: str, doc: str) -> Entity:
+    """The arms whose index matches the pattern ``index`` and their grippers."""
+    prefix = f"(robot{index}|gripper{index})_.*"
+    return Entity(
+        bodies=prefix, geoms=prefix, joints=f"robot{index}_joint\\d|gripper{index}_.*", actuators=prefix, doc=doc
+    )
+
+
+_ROBOT = _robots("0", "the arm and its gripper: joints, actuators, links")
 _TABLE = Entity(
     bodies="table|bin[12]",
     geoms=r"table_.*|bin[12]|bin[12]_.*",
@@ -62,3 +65,16 @@ ENTITIES: dict[str, dict[str, Entity]] = {
 #: a frame and a tool) are not named yet, so terms on ``object`` are refused there.
 for _name in ("NutAssemblySquare", "PickPlaceMilk", "PickPlaceBread", "PickPlaceCereal", "Wipe", "ToolHang"):
     ENTITIES[_name] = dict(_SHARED)
+
+#: The two-arm tasks: both robots (``robot0``, ``robot1``) and their grippers, and the object.
+_TWO_ROBOTS = _robots(r"\d", "both arms and their grippers: joints, actuators, links")
+ENTITIES["TwoArmLift"] = {
+    "object": Entity(bodies="pot_root", geoms="pot_.*", doc="the pot and its two handles"),
+    **_SHARED,
+    "robot": _TWO_ROBOTS,
+}
+ENTITIES["TwoArmHandover"] = {
+    "object": Entity(bodies="hammer_root", geoms="hammer_.*", doc="the hammer: handle, neck and head"),
+    **_SHARED,
+    "robot": _TWO_ROBOTS,
+}

@@ -18,14 +18,22 @@ class RobosuiteTask:
         env_name: robosuite's env name.
         achieved: The achieved goal from the upstream env.
         sample_goal: ``(upstream env, np_random) -> desired goal``, called after reset.
-        object_pos: The object the gripper must reach (for ``grip_to_object``).
-        grasp_object: The robosuite object whose grasp ``grasped`` reports, or None.
+        object_pos: The object the gripper must reach (for ``grip_to_object``); with
+            several ``reachers``, one row per reacher, ``(k, 3)``.
+        grasp_object: The robosuite object whose grasp ``grasped`` reports, or None; with
+            several ``reachers``, one per reacher (``grasped``: every one holds its own).
         ee_turn: The gripper orientation ``ee_delta`` holds: the grip site's orientation
             at reset turned by this rotation (a rotation vector in the world frame, rad).
             Zero holds the reset orientation (gripper pointing down).
         goal_is_success: robosuite's ``_check_success()`` is "the achieved goal equals the
             desired goal": ``native_success`` is read off the achieved goal of the step
             instead of running the checks again.
+        robots: How many robots robosuite's env takes (2 for the two-arm tasks).
+        reachers: The robots whose grip sites ``grip_to_object`` measures (the largest of
+            their distances to their rows of ``object_pos``) and whose grasps ``grasped``
+            checks.
+        ee_yaw: If set, a further turn about world z of the held orientation, read from
+            the env at each reset (rad): TwoArmLift turns the grippers with the pot.
     """
 
     env_name: str
@@ -35,17 +43,35 @@ class RobosuiteTask:
     grasp_object: Callable[[Any], Any] | None
     ee_turn: tuple[float, float, float] = (0.0, 0.0, 0.0)
     goal_is_success: bool = False
+    robots: int = 1
+    reachers: tuple[int, ...] = (0,)
+    ee_yaw: Callable[[Any], float] | None = None
 
-    def held_rotation(self, reset_rotation: np.ndarray) -> np.ndarray:
-        """The grip-site rotation matrix ``ee_delta`` holds, given the one at reset."""
-        turn = np.asarray(self.ee_turn, dtype=np.float64)
-        angle = float(np.linalg.norm(turn))
-        if angle == 0.0:
-            return reset_rotation.copy()
-        quat, mat = np.zeros(4), np.zeros(9)
-        mujoco.mju_axisAngle2Quat(quat, turn / angle, angle)
-        mujoco.mju_quat2Mat(mat, quat)
-        return mat.reshape(3, 3) @ reset_rotation
+    def grasp_objects(self, up) -> tuple[Any, ...] | None:
+        """One grasp object per reacher, or None."""
+        if self.grasp_object is None:
+            return None
+        held = self.grasp_object(up)
+        return tuple(held) if len(self.reachers) > 1 else (held,)
+
+    def held_rotation(self, reset_rotation: np.ndarray, up: Any = None) -> np.ndarray:
+        """The grip-site rotation matrix ``ee_delta`` holds, given the one at reset (and,
+        where the task turns it by ``ee_yaw``, the env just reset)."""
+        held = _turned(reset_rotation, np.asarray(self.ee_turn, dtype=np.float64))
+        if self.ee_yaw is not None:
+            held = _turned(held, np.array([0.0, 0.0, self.ee_yaw(up)]))
+        return held
+
+
+def _turned(rotation: np.ndarray, turn: np.ndarray) -> np.ndarray:
+    """``rotation`` turned by the rotation vector ``turn`` (world frame, rad)."""
+    angle = float(np.linalg.norm(turn))
+    if angle == 0.0:
+        return rotation.copy()
+    quat, mat = np.zeros(4), np.zeros(9)
+    mujoco.mju_axisAngle2Quat(quat, turn / angle, angle)
+    mujoco.mju_quat2Mat(mat, quat)
+    return mat.reshape(3, 3) @ rotation
 
 
 def _body_pos(attr: str):

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from unified_manip.envs.tasks.robosuite_tasks.goals import TASK_DEFS, BinGoal, NutGoal, RobosuiteTask, obj_body_pos
+from unified_manip.envs.tasks.robosuite_tasks.two_arm_goals import TWO_ARM_TASK_DEFS
 
 #: Each PickPlace object's goal height above bin 2's origin, m: its centre's height when it
 #: stands on the bin floor (measured: milk 0.081, bread 0.043, cereal 0.095; the can's
@@ -113,4 +114,4 @@ MORE_TASK_DEFS: dict[str, RobosuiteTask] = {
 }
 
 #: Every robosuite task, by name.
-TASKS: dict[str, RobosuiteTask] = TASK_DEFS | MORE_TASK_DEFS
+TASKS: dict[str, RobosuiteTask] = TASK_DEFS | MORE_TASK_DEFS | TWO_ARM_TASK_DEFS

@@ -1,9 +1,12 @@
 """robosuite's observation groups: its own observables, one group each, plus the shared
 ``object_rel`` and ``goal_rel``; the default vector is robosuite's ``robot0_proprio-state``
-then ``object-state``, i.e. those observables in robosuite's order."""
+(then ``robot1_proprio-state`` on the two-arm tasks) then ``object-state``, i.e. those
+observables in robosuite's order. The first robot's groups are named without a prefix
+(``joint_pos``); a second robot's carry its own (``robot1_joint_pos``)."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -26,8 +29,7 @@ PROPRIO: dict[str, tuple[str, str, str]] = {
     "gripper_qvel": ("gripper_vel", "m/s (finger joint velocities)", "velocity"),
     "contact": ("contact", "1 while the wiping tool pushes with more than 1 N (Wipe)", "state"),
 }
-PREFIX = "robot0_"
-MODALITIES = ("robot0_proprio", "object")
+PROPRIO_MODALITY = re.compile(r"robot(\d+)_proprio")
 
 
 def _object_group(key: str) -> G:
@@ -37,7 +39,9 @@ def _object_group(key: str) -> G:
 
 
 def _object_rel(b) -> np.ndarray:
-    return b.task.object_pos(b._up) - b.data.site_xpos[b._grip_site]
+    """Object - grip site of each reacher, in turn (3 entries each)."""
+    sites = [site for _, site, _ in b._reach]
+    return (np.atleast_2d(b.task.object_pos(b._up)) - b.data.site_xpos[sites]).ravel()
 
 
 def suite_groups(up: Any) -> tuple[dict[str, G], tuple[str, ...]]:
@@ -45,12 +49,14 @@ def suite_groups(up: Any) -> tuple[dict[str, G], tuple[str, ...]]:
     in robosuite's order (the default vector), then ``object_rel`` and ``goal_rel``."""
     groups: dict[str, G] = {}
     for key, obs in up._observables.items():
-        if not (obs.is_enabled() and obs.is_active()) or obs.modality not in MODALITIES:
+        if not (obs.is_enabled() and obs.is_active()):
             continue
-        if obs.modality == "robot0_proprio":
-            name, units, kind = PROPRIO[key.removeprefix(PREFIX)]
-            groups[name] = G(units, lambda b, k=key: b._obs[k], kind)
-        else:
+        robot = PROPRIO_MODALITY.fullmatch(obs.modality)
+        if robot:
+            prefix = f"robot{robot[1]}_"
+            name, units, kind = PROPRIO[key.removeprefix(prefix)]
+            groups[name if robot[1] == "0" else prefix + name] = G(units, lambda b, k=key: b._obs[k], kind)
+        elif obs.modality == "object":
             groups[key] = _object_group(key)
     default = tuple(groups)
     groups["object_rel"] = G("m (object - grip site)", _object_rel, "relative")

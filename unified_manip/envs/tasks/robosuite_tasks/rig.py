@@ -11,21 +11,24 @@ from unified_manip.envs.controllers.ik import IKJoints
 class SuiteRig:
     """One robosuite robot's arm, for the shared controllers.
 
-    A command becomes the action vector of robosuite's ``step`` (:attr:`pending`): the
-    arm entries (absolute joint targets for JOINT_POSITION, torques for JOINT_TORQUE),
-    then the gripper with robosuite's sign (+1 closed). A robot without a gripper that
-    moves (Wipe's wiping tool) has no gripper entry: ``has_gripper`` is False.
+    A command becomes the robot's part of the action vector of robosuite's ``step``
+    (:attr:`pending`, a view of the backend's action, which holds each robot's part in
+    turn): the arm entries (absolute joint targets for JOINT_POSITION, torques for
+    JOINT_TORQUE), then the gripper with robosuite's sign (+1 closed). A robot without a
+    gripper that moves (Wipe's wiping tool) has no gripper entry: ``has_gripper`` is False.
 
     Args:
         up: The robosuite env.
         joints: The arm joints, their ranges and the grip site.
-        held_rotation: Maps the grip site's rotation at reset to the one the end-effector
-            modes hold (the task's choice).
+        held_rotation: Maps the grip site's rotation at reset (and the env) to the one the
+            end-effector modes hold (the task's choice).
+        robot: Which of ``up.robots``.
+        pending: The robot's part of the step's action (written in place).
     """
 
-    def __init__(self, up, joints: IKJoints, held_rotation) -> None:
+    def __init__(self, up, joints: IKJoints, held_rotation, robot: int, pending: np.ndarray) -> None:
         self._up = up
-        self._robot = up.robots[0]
+        self._robot = up.robots[robot]
         self.has_gripper = self._robot.gripper["right"].dof > 0
         self.model, self.data = up.sim.model._model, up.sim.data._data
         self.joints = joints
@@ -38,7 +41,7 @@ class SuiteRig:
         self._held_rotation = held_rotation
         self.rotation = np.eye(3)
         self.kind = "position"
-        self.pending = np.zeros(up.action_dim)
+        self.pending = pending
 
     def joint_positions(self) -> np.ndarray:
         return self.data.qpos[self.qpos_adr]
@@ -69,13 +72,12 @@ class SuiteRig:
             c.output_max, c.output_min = c.actuator_max.copy(), c.actuator_min.copy()
             c.input_max, c.input_min = c.actuator_max.copy(), c.actuator_min.copy()
             c.action_scale = None
-        self.rotation = self._held_rotation(self.data.site_xmat[self.site_id].reshape(3, 3))
+        self.rotation = self._held_rotation(self.data.site_xmat[self.site_id].reshape(3, 3), self._up)
 
     def command(self, arm: np.ndarray, gripper: float | None) -> None:
-        command = np.zeros(self._up.action_dim)
+        command = self.pending
         if self.has_gripper:
             command[-1] = -gripper  # robosuite's GRIP: -1 open, +1 closed
             command[:-1] = arm
         else:
             command[:] = arm
-        self.pending = command

@@ -5,7 +5,7 @@ from __future__ import annotations
 from unified_manip.envs.lazy import lazy
 from unified_manip.envs.registry import TaskSpec
 from unified_manip.envs.tasks.gripper_terms import GRIPPER_TERM_SETS
-from unified_manip.envs.tasks.robosuite_tasks.cameras import CAMERAS
+from unified_manip.envs.tasks.robosuite_tasks.cameras import cameras_of
 from unified_manip.envs.tasks.robosuite_tasks.controllers import CONTROLLERS
 from unified_manip.envs.tasks.robosuite_tasks.docs import CAN_DOC, DOOR_DOC, LIFT_DOC, NUT_DOC, STACK_DOC
 from unified_manip.envs.tasks.robosuite_tasks.entities import ENTITIES
@@ -19,6 +19,8 @@ from unified_manip.envs.tasks.robosuite_tasks.more_docs import (
 )
 from unified_manip.envs.tasks.robosuite_tasks.more_policies import bread_policy, cereal_policy, milk_policy, nut_policy
 from unified_manip.envs.tasks.robosuite_tasks.policies import can_policy, door_policy, lift_policy, stack_policy
+from unified_manip.envs.tasks.robosuite_tasks.two_arm_docs import TWO_ARM_HANDOVER_DOC, TWO_ARM_LIFT_DOC
+from unified_manip.envs.tasks.robosuite_tasks.two_arm_policies import two_arm_handover_policy, two_arm_lift_policy
 from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 
 _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
@@ -29,9 +31,13 @@ _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 #: by ``unified-manip collect`` (docs/datasets.md).
 STABILITY_STEPS = 200
 SCRIPTED_EPISODES = 10
+#: The two-arm tasks step two arms' controllers (two IKs in the ee modes): ~30-60 steps/s
+#: here, so their stability test plays fewer steps in the same time.
+TWO_ARM_STABILITY_STEPS = 60
 
-SPECS: tuple[TaskSpec, ...] = tuple(
-    TaskSpec(
+
+def _spec(name, term_set, goal_dim, steps, threshold, doc, policy, min_success, robots=1) -> TaskSpec:
+    return TaskSpec(
         name=name,
         family="robosuite",
         terms=GRIPPER_TERM_SETS[term_set],
@@ -44,15 +50,19 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         scripted_policy=EEDeltaPolicy("robosuite", policy) if policy else None,
         scripted_min_success=min_success,
         render_fps=20,
-        cameras=CAMERAS,
+        cameras=cameras_of(robots),
         entities=ENTITIES[name],
         scripted_episodes=SCRIPTED_EPISODES,
-        stability_steps=STABILITY_STEPS,
+        stability_steps=STABILITY_STEPS if robots == 1 else TWO_ARM_STABILITY_STEPS,
         upstream_id=f"robosuite:{name}",
-        make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native"),
+        make_upstream=lazy(f"{_PACKAGE}.suite:make_upstream", name, "Panda", "native", robots),
         extra="robosuite",
     )
-    for name, term_set, goal_dim, steps, threshold, doc, policy, min_success in (
+
+
+SPECS: tuple[TaskSpec, ...] = tuple(
+    _spec(*row)
+    for row in (
         ("Lift", "grasp", 3, 100, 0.05, LIFT_DOC, lift_policy, 0.8),
         ("Stack", "grasp", 3, 200, 0.02, STACK_DOC, stack_policy, 0.8),
         ("PickPlaceCan", "grasp", 3, 200, 0.05, CAN_DOC, can_policy, 0.8),
@@ -66,5 +76,8 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         # half a marker of 1. ToolHang: both stage flags set.
         ("Wipe", "push", 1, 500, 0.005, WIPE_DOC, None, None),
         ("ToolHang", "push", 2, 700, 0.5, TOOL_HANG_DOC, None, None),
+        # Two Pandas: the pot to a point 16-22 cm up; the hammer's handover flags.
+        ("TwoArmLift", "push", 3, 150, 0.05, TWO_ARM_LIFT_DOC, two_arm_lift_policy, None, 2),
+        ("TwoArmHandover", "push", 3, 300, 0.5, TWO_ARM_HANDOVER_DOC, two_arm_handover_policy, None, 2),
     )
 )

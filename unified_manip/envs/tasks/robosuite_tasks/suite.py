@@ -53,6 +53,9 @@ def controller_config(mode: str, robot: str) -> dict:
     return cfg
 
 
-def make_upstream(env_name: str, robot: str, mode: str):
-    """The robosuite env, built with ``robosuite.make`` as a robosuite user would."""
-    return robosuite.make(env_name, robots=robot, controller_configs=controller_config(mode, robot), **UPSTREAM_KWARGS)
+def make_upstream(env_name: str, robot: str, mode: str, robots: int = 1):
+    """The robosuite env, built with ``robosuite.make`` as a robosuite user would:
+    ``robots`` of ``robot`` (two for the two-arm tasks, in robosuite's default ``opposed``
+    configuration), each with the mode's controller config."""
+    config = controller_config(mode, robot)
+    return robosuite.make(env_name, robots=[robot] * robots, controller_configs=config, **UPSTREAM_KWARGS)
