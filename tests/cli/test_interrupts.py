@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 
+from unified_manip.cli.interrupts import noting_ctrl_c
 from unified_manip.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -135,3 +136,27 @@ def test_robustness_while_mujoco_imports(bench, tmp_path, after):
     process by SIGINT, not with the status returned)."""
     code, _, err = interrupt(["robustness", str(bench), "--no-progress"], tmp_path, after=after)
     assert_one_line("robustness", code, err)
+
+
+class _HalfBuilt:
+    """An object whose finaliser fails, as a GL context the signal cut off half-built."""
+
+    def __del__(self):
+        raise AttributeError("'GLContext' object has no attribute '_context'")
+
+
+def test_a_finaliser_failing_after_the_signal_prints_nothing(monkeypatch):
+    """What the interrupt leaves half-built fails quietly when freed, and only after the
+    signal: before it, and once the command is done, such errors go to the hook as usual
+    (Python's default hook prints them with a traceback)."""
+    reported = []
+    monkeypatch.setattr(sys, "unraisablehook", reported.append)
+    with noting_ctrl_c() as ctrl_c:
+        _HalfBuilt()
+        assert len(reported) == 1
+        with pytest.raises(KeyboardInterrupt):
+            ctrl_c(signal.SIGINT, None)  # the handler the signal calls
+        _HalfBuilt()
+        assert len(reported) == 1
+    _HalfBuilt()
+    assert len(reported) == 2 and "_context" in str(reported[-1].exc_value)

@@ -5,12 +5,18 @@ Python turns SIGINT into ``KeyboardInterrupt``, but a C extension that is import
 ctypes call, can turn that into another error (``ImportError: initialization failed``,
 ``ctypes.ArgumentError: ... KeyboardInterrupt``). So the command line notes the signal
 itself, and any error that follows it is the interrupt.
+
+An object the signal cut off half-built (a renderer's GL context, say) can fail in its
+``__del__`` as the stack unwinds, and Python prints such errors with a traceback ("Exception
+ignored in ..."). After the signal those are the interrupt's, so they are not printed.
 """
 
 from __future__ import annotations
 
 import ctypes
+import gc
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 from typing import Iterator
@@ -25,6 +31,7 @@ class CtrlC:
 
     def __call__(self, signum, frame) -> None:
         self.pressed = True
+        sys.unraisablehook = _after_the_interrupt
         raise KeyboardInterrupt
 
     def caused(self, err: BaseException) -> bool:
@@ -44,11 +51,19 @@ def noting_ctrl_c() -> Iterator[CtrlC]:
         and signal.getsignal(signal.SIGINT) is signal.default_int_handler
     )
     previous = signal.signal(signal.SIGINT, ctrl_c) if install else None
+    hook = sys.unraisablehook
     try:
         yield ctrl_c
     finally:
         if install:
             signal.signal(signal.SIGINT, previous)
+        if ctrl_c.pressed:  # what the interrupt left unreachable goes now, quietly
+            gc.collect()
+        sys.unraisablehook = hook
+
+
+def _after_the_interrupt(unraisable) -> None:
+    """``sys.unraisablehook`` once Ctrl-C came: an error in a finaliser is the interrupt's."""
 
 
 def _chained_interrupt(err: BaseException | None) -> bool:
