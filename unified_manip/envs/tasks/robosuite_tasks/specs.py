@@ -26,10 +26,11 @@ from unified_manip.envs.tasks.scripted import EEDeltaPolicy
 _PACKAGE = "unified_manip.envs.tasks.robosuite_tasks"
 
 #: Random steps per mode in the stability test, and episodes of the scripted-policy
-#: test: robosuite steps at ~100-200/s here, so 10 seeded episodes (up to 2,000 steps)
-#: per task keep the suite's time; the policies' rates over more episodes are measured
-#: by ``unified-manip collect`` (docs/datasets.md).
-STABILITY_STEPS = 200
+#: test: robosuite steps at ~100-200/s here, so 100 random steps per mode (x 8 modes x
+#: 11 one-arm tasks) and 10 seeded episodes (up to 2,000 steps) per task keep the suite's
+#: time; the policies' rates over more episodes are measured by ``unified-manip collect``
+#: (docs/datasets.md).
+STABILITY_STEPS = 100
 SCRIPTED_EPISODES = 10
 #: The two-arm tasks step two arms' controllers (two IKs in the ee modes): ~30-60 steps/s
 #: here, so their stability test plays fewer steps in the same time.
