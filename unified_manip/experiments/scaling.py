@@ -1,7 +1,7 @@
 """``unified-manip plot --against demonstrations``: final success against the number of
 demonstration episodes a run learned from, a panel per task.
 
-A study that repeats one grid at several dataset sizes (issue 39's cloning study: 25, 100
+A study that repeats one grid at several dataset sizes (the cloning study of docs/results/cloning.md: 25, 100
 and 400 episodes) is several benches, one per size. This figure puts them on one axis:
 each *setting* (action mode, reward, algorithm) is a line through its mean final success
 over seeds at each size, with whiskers over the seeds
