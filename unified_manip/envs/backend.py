@@ -10,11 +10,31 @@ env from the validated :class:`~unified_manip.envs.config.EnvConfig`.
 from __future__ import annotations
 
 import abc
+import copy
+from dataclasses import dataclass
 from typing import Any, Mapping
 
 import numpy as np
 
 from unified_manip.envs.observations import ObservationGroup
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """What a backend's next steps depend on (:meth:`Backend.checkpoint`).
+
+    Attributes:
+        data: A copy of the simulator's whole ``MjData``: the state, the controls, the
+            solver's warm start and every derived quantity, so stepping on from it is bit
+            for bit stepping on from where it was taken.
+        memory: The controller's memory between steps (:mod:`~unified_manip.envs.controllers.memory`).
+        family: What else a family's next step reads (e.g. robosuite's gripper
+            smoothing), in the family's own form; ``None`` for most.
+    """
+
+    data: Any
+    memory: tuple[dict[str, np.ndarray], ...]
+    family: Any = None
 
 
 class Backend(abc.ABC):
@@ -138,3 +158,32 @@ class Backend(abc.ABC):
             return
         mujoco.mj_setState(self.model, self.data, state, spec)
         mujoco.mj_forward(self.model, self.data)
+
+    def checkpoint(self) -> Checkpoint:
+        """Everything the physics of the next steps depends on: the simulator's ``MjData``
+        and the shared controller's memory. :meth:`restore` puts it back into this backend
+        or into another of the same task and action mode reset with the same seed (its
+        model then equals this one), which then steps on bit for bit as this one would
+        (to rounding on MuJoCo 3.3.0); ``unified-manip convert`` tries actions so. A family whose next physics step also
+        reads memory of its own adds it here."""
+        from unified_manip.envs.controllers.memory import remember
+
+        return Checkpoint(copy.copy(self.data), remember(getattr(self, "control", None)))
+
+    def restore(self, checkpoint: Checkpoint) -> None:
+        """Put back a :meth:`checkpoint` of this backend or of another of the same task
+        and mode. Caches of the last step's observation stay as they are: step to read."""
+        import mujoco
+
+        from unified_manip.envs.controllers.memory import recall
+
+        if hasattr(mujoco, "mj_copyData"):
+            mujoco.mj_copyData(self.data, self.model, checkpoint.data)
+        else:  # MuJoCo 3.3.0 binds no in-place copy: the integration state, derived quantities recomputed
+            # (the steps after it then agree to rounding, not bit for bit)
+            spec = mujoco.mjtState.mjSTATE_INTEGRATION
+            state = np.empty(mujoco.mj_stateSize(self.model, spec))
+            mujoco.mj_getState(self.model, checkpoint.data, state, spec)
+            mujoco.mj_setState(self.model, self.data, state, spec)
+            mujoco.mj_forward(self.model, self.data)
+        recall(getattr(self, "control", None), checkpoint.memory)

@@ -17,6 +17,9 @@ from unified_manip.envs.controllers.ik import MinkIK
 class EEDeltaController:
     """Target ``p + a[:3] * step`` from the measured grip site ``p``."""
 
+    #: What it carries between steps (:mod:`.memory`).
+    memory: tuple[str, ...] = ()
+
     def __init__(self, config, rig) -> None:
         self.config, self.rig = config, rig
         self.action_dim = 3 + int(rig.has_gripper)
@@ -53,6 +56,8 @@ class EEDeltaController:
 
 class EETargetDeltaController(EEDeltaController):
     """Target ``previous target + a[:3] * step``; the grip site's position at reset."""
+
+    memory = ("target",)
 
     def __init__(self, config, rig) -> None:
         super().__init__(config, rig)

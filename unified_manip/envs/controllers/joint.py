@@ -21,6 +21,9 @@ import numpy as np
 class _JointController:
     """What the joint controllers share: the action layout, reset and the command."""
 
+    #: What it carries between steps (:mod:`.memory`).
+    memory: tuple[str, ...] = ()
+
     def __init__(self, config, rig) -> None:
         self.config, self.rig = config, rig
         self.n = rig.n
@@ -80,6 +83,8 @@ class JointPositionBandController(_JointController):
     """Absolute target ``q_reset + a * band``, clipped to the range: ``joint_position``
     over a band around the posture the episode started in."""
 
+    memory = ("center",)
+
     def __init__(self, config, rig) -> None:
         super().__init__(config, rig)
         rig.actuate("position")
@@ -130,6 +135,8 @@ class JointTargetDeltaController(_JointController):
     """Target ``previous target + a * max_delta``, clipped to the range; the measured
     ``q`` at reset."""
 
+    memory = ("target",)
+
     def __init__(self, config, rig) -> None:
         super().__init__(config, rig)
         rig.actuate("position")
@@ -172,6 +179,8 @@ class JointVelocityController(_JointController):
 class IntegratedJointVelocityController(_JointController):
     """``a * max_velocity`` integrated into a position target, within ``max_lead`` of
     the measured position and within the range."""
+
+    memory = ("target",)
 
     def __init__(self, config, rig) -> None:
         super().__init__(config, rig)

@@ -5,12 +5,13 @@ upstream's generator is not used (the noise is drawn from the env's own)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any, Mapping
 
 import mujoco
 import numpy as np
 
-from unified_manip.envs.backend import Backend
+from unified_manip.envs.backend import Backend, Checkpoint
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.lazy import resolve
@@ -122,6 +123,15 @@ class KitchenBackend(Backend):
 
     def unstable(self) -> bool:
         return self._unstable
+
+    def checkpoint(self) -> Checkpoint:
+        """Also the last observation's noisy joint positions, which ``native``'s servo
+        targets start from (upstream's ``FrankaRobot.step``)."""
+        return replace(super().checkpoint(), family=self._readout.last_q.copy())
+
+    def restore(self, checkpoint: Checkpoint) -> None:
+        super().restore(checkpoint)
+        self._readout.last_q = checkpoint.family.copy()
 
     # -------------------------------------------------------------- observation
     def observation_groups(self) -> Mapping[str, ObservationGroup]:

@@ -4,12 +4,13 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any, Mapping
 
 import mujoco
 import numpy as np
 
-from unified_manip.envs.backend import Backend
+from unified_manip.envs.backend import Backend, Checkpoint
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers import ControllerConfig
 from unified_manip.envs.controllers.composite import build_controller, part_layout
@@ -129,6 +130,23 @@ class RobosuiteBackend(Backend):
 
     def unstable(self) -> bool:
         return self._unstable
+
+    def checkpoint(self) -> Checkpoint:
+        """Also each gripper's command, which robosuite moves toward the action's sign at
+        a set speed (``current_action``)."""
+        grippers = [g.current_action.copy() for r in self._up.robots for g in r.gripper.values()]
+        return replace(super().checkpoint(), family=grippers)
+
+    def restore(self, checkpoint: Checkpoint) -> None:
+        """Also flag robosuite's part controllers to reread the simulator, as a step leaves
+        them: each caches the joint state and reads it again only when flagged."""
+        super().restore(checkpoint)
+        grippers = [g for r in self._up.robots for g in r.gripper.values()]
+        for gripper, action in zip(grippers, checkpoint.family):
+            gripper.current_action = action.copy()
+        for robot in self._up.robots:
+            for part in robot.part_controllers.values():
+                part.new_update = True
 
     # -------------------------------------------------------------- observation
     def observation(self) -> np.ndarray:
