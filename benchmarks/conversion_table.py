@@ -3,8 +3,8 @@ succeed when ``convert`` re-executes them in each action mode, with the tracking
 
 Run it as ``python -m benchmarks.conversion_table --env ID[,ID...] --episodes 50
 --out DIR``; it records ``--episodes`` successful scripted episodes per task into
-``DIR/<task>-ee_delta-v0``, converts them to every other mode (measuring only, no
-datasets written) and prints a Markdown table (and ``--json``'s document). For comparison
+``DIR/<task>-ee_delta-v0``, converts them to every other mode by ``--method`` (``search``,
+the default, or ``track``: open loop; measuring only, no datasets written) and prints a Markdown table (and ``--json``'s document). For comparison
 it also plays the scripted policy live in each mode from the same reset seeds, its
 actions translated one by one (:class:`~unified_manip.envs.controllers.translate.EEDeltaInMode`,
 what a run's ``demonstrations`` do today).
@@ -38,12 +38,15 @@ def measure(
     first: int | None = None,
     on_mode=None,
     progress: bool = False,
+    method: str = "search",
 ) -> dict[str, Any]:
     """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
     convert them to ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
     ``translated=False`` leaves out the live per-action translation (it doubles the time);
     ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode;
-    ``progress`` shows the recording's and each conversion's progress bars."""
+    ``progress`` shows the recording's and each conversion's progress bars; ``method`` is
+    ``convert``'s. A mode's ``success`` counts the episodes kept (a success within the
+    tolerance), ``succeeded`` those that succeed at all."""
     spec = get_task(task_id)
     # The version is in the name: Arm4Push-v0 and -v1 share a spec name, not their episodes.
     path = Path(out) / f"{task_id.split('/')[-1]}-ee_delta-v0"
@@ -70,7 +73,7 @@ def measure(
     for mode in modes or spec.action_modes:
         start = time.perf_counter()
         try:
-            report = convert(path, mode, None, progress=progress, first=first)
+            report = convert(path, mode, None, progress=progress, first=first, method=method)
         except DatasetError as err:
             row["modes"][mode] = {"error": str(err)}
             if on_mode is not None:
@@ -79,10 +82,14 @@ def measure(
         eps = report.episodes
         seeds = [int(m["seed"]) for m in _seeds(path)]
         row["modes"][mode] = {
-            "success": sum(e.success_converted for e in eps),
+            "method": method,
+            "success": sum(e.kept for e in eps),
+            "succeeded": sum(e.success_converted for e in eps),
             "episodes": len(eps),
             "tracking_error_mean_cm": sum(e.tracking_error_mean_cm for e in eps) / len(eps),
             "tracking_error_max_cm": max(e.tracking_error_max_cm for e in eps),
+            "goal_error_mean": sum(e.goal_error_mean for e in eps) / len(eps),
+            "goal_error_max": max(e.goal_error_max for e in eps),
             "seconds": time.perf_counter() - start,
             "translated_success": _translated_successes(task_id, mode, seeds) if translated else None,
         }
@@ -175,6 +182,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--modes", help="comma-separated action modes (default: every mode of each task)")
     parser.add_argument("--no-translated", action="store_true", help="leave out the live per-action translation")
     parser.add_argument("--first", type=int, help="convert only the first recorded episodes")
+    parser.add_argument("--method", choices=("search", "track"), default="search", help="convert's method")
     parser.add_argument("--json", help="also write the results here (after every mode)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bars or per-mode lines on stderr")
     args = parser.parse_args(argv)
@@ -229,6 +237,7 @@ def main(argv: list[str] | None = None) -> None:
                 first=args.first,
                 on_mode=save,
                 progress=not args.no_progress,
+                method=args.method,
             )
         except ValueError as err:  # no scripted policy, or a recording of another task
             parser.error(str(err))

@@ -15,6 +15,7 @@ from rich.table import Table
 
 from unified_manip.cli.args import env_kwarg, positive_int, task_id
 from unified_manip.cli.output import write_json
+from unified_manip.datasets.search import METHODS, TOLERANCE_CM
 from unified_manip.envs.config import ACTION_MODES
 from unified_manip.envs.design_names import parse_observation
 from unified_manip.envs.registry import TASKS
@@ -75,7 +76,23 @@ def add_commands(sub) -> None:
         type=parse_observation,
         help="record the converted episodes with this observation design (default: the dataset's)",
     )
-    p.add_argument("--keep-failed", action="store_true", help="keep the episodes that no longer succeed")
+    p.add_argument(
+        "--method",
+        choices=METHODS,
+        default="search",
+        help="search each step's action for the recorded next state (default), or track the recorded "
+        "grip-site trajectory open loop",
+    )
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=TOLERANCE_CM,
+        metavar="CM",
+        help=f"an episode whose grip site lands further than this from the recording fails (default {TOLERANCE_CM:g})",
+    )
+    p.add_argument(
+        "--keep-failed", action="store_true", help="keep the episodes that no longer succeed or leave the tolerance"
+    )
     p.add_argument("--overwrite", action="store_true", help="replace a dataset at --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", help="also write the report to this JSON file")
@@ -206,9 +223,21 @@ def cmd_convert(args: argparse.Namespace) -> int:
         overwrite=args.overwrite,
         progress=not args.no_progress,
         observation=args.observation,
+        method=args.method,
+        tolerance_cm=args.tolerance,
     )
-    table = Table(title=f"{args.dataset} converted to {args.action_mode}")
-    for col in ("episode", "steps", "success recorded", "success converted", "tracking error cm (mean / max)"):
+    table = Table(title=f"{args.dataset} converted to {args.action_mode} ({args.method})")
+    columns = (
+        "episode",
+        "steps",
+        "success recorded",
+        "success converted",
+        "grip site off cm (mean / max)",
+        "goal off (mean / max)",
+        "first step off",
+        "s",
+    )
+    for col in columns:
         table.add_column(col, justify="right")
     for e in report.episodes:
         table.add_row(
@@ -217,10 +246,16 @@ def cmd_convert(args: argparse.Namespace) -> int:
             str(e.success_recorded),
             str(e.success_converted),
             f"{e.tracking_error_mean_cm:.2f} / {e.tracking_error_max_cm:.2f}",
+            f"{e.goal_error_mean:.4f} / {e.goal_error_max:.4f}",
+            "-" if e.first_step_off is None else str(e.first_step_off),
+            f"{e.seconds:.1f}",
         )
-    Console(width=120).print(table)
+    Console(width=150).print(table)
     n = len(report.episodes)
-    print(f"converted success {report.success_rate:.2f} ({sum(e.success_converted for e in report.episodes)}/{n})")
+    for e in report.episodes:
+        if e.first_step_off is not None:
+            print(f"episode {e.episode}: step {e.first_step_off} left the grip site beyond {args.tolerance:g} cm")
+    print(f"converted success {report.success_rate:.2f} ({sum(e.kept for e in report.episodes)}/{n})")
     if args.json:
         write_json(args.json, report.as_dict())
     if report.out is None:

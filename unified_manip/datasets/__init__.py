@@ -3,8 +3,8 @@
 - :mod:`.recording` plays a policy and records each step with the simulator's full state
   (``unified-manip collect``);
 - :mod:`.replay` replays a dataset from its states or its actions (``unified-manip replay``);
-- :mod:`.convert` re-executes a dataset in another action mode by tracking its recorded
-  grip-site trajectory (``unified-manip convert``);
+- :mod:`.convert` re-executes a dataset in another action mode (``unified-manip convert``),
+  each step's action searched for by :mod:`.search` in a probe env;
 - :mod:`.store` reads and publishes datasets on disk (temporary name, then rename);
 - :mod:`.versions` names the package versions a dataset was recorded with.
 

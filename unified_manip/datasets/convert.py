@@ -2,20 +2,32 @@
 
 Each episode starts from the recorded initial state (the env reset with the episode's
 seed, the recorded state restored over it where the two modes share a model) and then
-tracks the recorded trajectory: at step ``t`` the grip site is driven toward where the
-recording had it after step ``t``, through the task's ``ee_delta`` IK and the mode's own
-controller (:class:`~unified_manip.envs.controllers.translate.SiteTracker`), with the
-recorded gripper command passed through. The recorded grip-site positions are read by
-restoring each recorded state in the recording's own env. The new episode is recorded
-with its own observations and states; a converted episode that does not end in success
-is left out unless ``keep_failed``.
+re-executes the recording step by step. Two methods:
+
+* ``search`` (the default): each step's action is searched for, in the new mode, so that
+  the step lands the grip site where the recording had it after that step and the
+  achieved goal (the object) where the recording's was (:mod:`.search`). Where the
+  converted object drifts from the recording, the search trades grip-site error for
+  object error, so it steers back toward the recorded object trajectory.
+* ``track``: open loop, the grip site driven toward its next recorded position through
+  the task's ``ee_delta`` IK and the mode's own controller
+  (:class:`~unified_manip.envs.controllers.translate.SiteTracker`).
+
+Both pass the recorded gripper command through; the search starts from the tracker's
+action, or from the recorded action translated into the mode where the dataset was
+recorded in a mode without a grip-site rig (Meta-World's ``native``). The recorded grip-site
+positions are read by restoring each recorded state in an env that has the rig. The new
+episode is recorded with its own observations and states. A converted episode is kept
+when it ends in success and no step left the grip site further than ``tolerance_cm`` from
+the recording; the report names the first step that did.
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -23,12 +35,15 @@ from unified_manip.datasets import store
 from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
+from unified_manip.datasets.search import METHODS, TOLERANCE_CM, ActionSearch, SearchConfig, Target, site_velocity
 
 
 @dataclass(frozen=True)
 class EpisodeConversion:
-    """One converted episode: success as recorded and as converted, and the grip site's
-    distance from the recorded trajectory after each step (mean and max, cm)."""
+    """One converted episode: success as recorded and as converted; after each step, the
+    grip site's distance from the recorded trajectory (mean and max, cm) and the achieved
+    goal's (mean and max, in the goal's units: m for a position); the first step whose
+    grip site landed beyond the tolerance (``None``: none); and the wall time, s."""
 
     episode: int
     steps: int
@@ -36,6 +51,16 @@ class EpisodeConversion:
     success_converted: bool
     tracking_error_mean_cm: float
     tracking_error_max_cm: float
+    goal_error_mean: float
+    goal_error_max: float
+    first_step_off: int | None
+    seconds: float
+
+    @property
+    def kept(self) -> bool:
+        """Whether the converted episode is a demonstration: a success that stayed on the
+        recorded trajectory."""
+        return self.success_converted and self.first_step_off is None
 
 
 @dataclass(frozen=True)
@@ -44,13 +69,16 @@ class ConvertReport:
 
     dataset: str
     action_mode: str
+    method: str
+    tolerance_cm: float
     episodes: list[EpisodeConversion]
     out: str | None
     kept: int
 
     @property
     def success_rate(self) -> float:
-        return sum(e.success_converted for e in self.episodes) / len(self.episodes)
+        """The share of episodes converted into demonstrations (:attr:`EpisodeConversion.kept`)."""
+        return sum(e.kept for e in self.episodes) / len(self.episodes)
 
     def as_dict(self) -> dict[str, Any]:
         return {**asdict(self), "success_rate": self.success_rate}
@@ -67,27 +95,39 @@ def convert(
     observation: Any = None,
     keep: int | None = None,
     max_failed: int | None = None,
+    method: str = "search",
+    tolerance_cm: float = TOLERANCE_CM,
+    search: SearchConfig = SearchConfig(),
 ) -> ConvertReport:
     """Convert the dataset at ``path`` (its ``first`` episodes; ``None``: all) to
-    ``action_mode`` (and to the observation design ``observation``; ``None``: the
-    recorded one) and publish it as ``out`` (``None``: measure only), with its first
-    ``keep`` kept episodes (``None``: all). No dataset is written when no episode is kept,
-    nor when more than ``max_failed`` episodes fail to convert (the conversion stops there)."""
+    ``action_mode`` by ``method`` (:data:`METHODS`), and to the observation design
+    ``observation`` (``None``: the recorded one), and publish it as ``out`` (``None``:
+    measure only), with its first ``keep`` kept episodes (``None``: all). No dataset is
+    written when no episode is kept, nor when more than ``max_failed`` episodes fail to
+    convert (the conversion stops there)."""
     import gymnasium as gym
     from tqdm import tqdm
 
-    from unified_manip.envs.controllers.translate import SiteTracker
-
+    if method not in METHODS:
+        raise DatasetError(f"convert's method must be one of {', '.join(METHODS)}; got {method!r}")
+    if not tolerance_cm > 0:
+        raise DatasetError(f"convert's tolerance must be a positive number of cm; got {tolerance_cm}")
     dataset = store.open_dataset(path)
     meta = store.metadata(dataset)
     if out is not None:
         out = store.check_out(Path(out), overwrite)
     spec = gym.spec(meta["env_id"])
     task = _task(meta["env_id"])
+    source_mode = meta["env_kwargs"].get("action_mode")
     try:
         task.check_choices(action_mode, meta["env_kwargs"].get("reward_type", "sparse"))
     except ValueError as err:
         raise DatasetError(str(err)) from None
+    if action_mode not in shared_modes(task):
+        raise DatasetError(
+            f"{task.id}'s action_mode {action_mode!r} is the source's own controller, which cannot track a "
+            f"grip-site trajectory; expected one of {', '.join(shared_modes(task))}"
+        )
     source = dataset.recover_environment()
     kwargs = {**meta["env_kwargs"], "action_mode": action_mode}
     if observation is not None:
@@ -95,40 +135,31 @@ def convert(
         if observation != "default":
             kwargs["observation"] = observation
     target = gym.make(spec.id, **kwargs)
+    probe = gym.make(spec.id, **kwargs) if method == "search" else None
     try:
-        rig = getattr(source.unwrapped.backend, "rig", None)
-        if rig is None:
-            raise DatasetError(
-                f"{path} was recorded in {meta['env_kwargs'].get('action_mode')!r}, the source's own controller, "
-                "which has no grip-site rig to read its trajectory from; convert a dataset of a shared-controller mode"
-            )
-        if action_mode not in shared_modes(task):
-            raise DatasetError(
-                f"{task.id}'s action_mode {action_mode!r} is the source's own controller, which cannot track a "
-                f"grip-site trajectory; expected one of {', '.join(shared_modes(task))}"
-            )
-        try:
-            tracker = SiteTracker(target.unwrapped.backend, task.controllers["ee_delta"])
-        except ValueError as err:
-            raise DatasetError(f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}") from None
+        step = _stepper(task, target, probe, source_mode, method, search)
         indices = dataset.episode_indices[:first]
         seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(indices)]
         rows, kept = [], []
         bar = tqdm(
-            dataset.iterate_episodes(indices), total=len(seeds), desc=f"convert to {action_mode}", disable=not progress
+            dataset.iterate_episodes(indices),
+            total=len(seeds),
+            desc=f"convert to {action_mode} ({method})",
+            disable=not progress,
         )
+        reader = source if getattr(source.unwrapped.backend, "rig", None) is not None else target
         for seed, ep in zip(seeds, bar):
-            sites = _recorded_sites(source, ep.infos["state"])
+            targets = _recorded(reader, ep, task.id)
             try:
-                episode, row = _convert_episode(target, tracker, ep, seed, sites)
+                episode, row = _convert_episode(target, step, ep, seed, targets, tolerance_cm)
             except ValueError as err:  # a controller that cannot follow a target on this robot
                 raise DatasetError(
                     f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}"
                 ) from None
             rows.append(row)
-            if row.success_converted or keep_failed:
+            if row.kept or keep_failed:
                 kept.append(episode)
-            if max_failed is not None and sum(not r.success_converted for r in rows) > max_failed:
+            if max_failed is not None and sum(not r.kept for r in rows) > max_failed:
                 kept = []  # out of reach: nothing is written
                 break
         kept = kept[:keep]
@@ -137,21 +168,25 @@ def convert(
                 "env_id": spec.id,
                 "env_kwargs": kwargs,
                 "policy": "convert",
-                "source": f"{path} ({meta['env_kwargs'].get('action_mode')}, policy {meta['policy']})",
+                "source": f"{path} ({source_mode}, policy {meta['policy']})",
                 "converted_from": meta,
-                "conversion": [asdict(r) for r in rows],
+                "conversion": {"method": method, "tolerance_cm": tolerance_cm, "search": asdict(search)},
+                "conversion_episodes": [asdict(r) for r in rows],
                 "seed": meta.get("seed"),
                 "episodes_played": len(rows),
-                "success_rate": sum(r.success_converted for r in rows) / len(rows),
+                "success_rate": sum(r.kept for r in rows) / len(rows),
                 "dropped_episodes": len(rows) - len(kept),
                 "only_successful": not keep_failed,
             }
-            description = f"{path} converted to action_mode {action_mode!r} by tracking its grip-site trajectory"
+            how = "searching each step's action" if method == "search" else "tracking its grip-site trajectory"
+            description = f"{path} converted to action_mode {action_mode!r} by {how}"
             store.publish(out, kept, target, published, description)
     finally:
-        source.close()
-        target.close()
-    return ConvertReport(str(path), action_mode, rows, str(out) if out is not None and kept else None, len(kept))
+        for env in (source, target, probe):
+            if env is not None:
+                env.close()
+    out_name = str(out) if out is not None and kept else None
+    return ConvertReport(str(path), action_mode, method, tolerance_cm, rows, out_name, len(kept))
 
 
 def _task(env_id: str):
@@ -160,36 +195,121 @@ def _task(env_id: str):
     return get_task(env_id)
 
 
-def _recorded_sites(env, states: np.ndarray) -> np.ndarray:
-    """The grip site's position in each recorded state, read in the recording's env."""
+#: One converted step: ``(recorded action, where the recording was after it) -> action``.
+Stepper = Callable[[np.ndarray, Target], np.ndarray]
+#: Its initial guesses, the same way.
+Guesser = Callable[[np.ndarray, Target], list[np.ndarray]]
+
+
+def _stepper(task, target, probe, source_mode: str, method: str, config: SearchConfig):
+    """What picks each converted step's action: the initial guess itself (``track``), or
+    the search from it (``search``)."""
+    backend = target.unwrapped.backend
+    guess = _guesser(task, backend, source_mode, target.unwrapped.config.action_mode)
+    if method == "track":
+        return _Track(guess)
+    return _Search(ActionSearch(probe, config), backend, guess)
+
+
+def _guesser(task, backend, source_mode: str, mode: str) -> Guesser:
+    """Each step's initial guesses: the recorded action translated into the mode, where
+    the dataset was recorded in ``ee_delta`` or in its scripted policy's own mode (as the
+    ``demonstrations`` run setting plays a scripted policy: Meta-World's ``native``
+    through its policy's translator); and, where it was recorded in a mode of the shared
+    controllers, the tracker's action toward the next recorded grip site with the recorded
+    gripper command. The first is ``track``'s action."""
+    from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker
+
+    ee = task.controllers["ee_delta"]
+    guessers = []
+    translator = getattr(task.scripted_policy, "translator", None) if source_mode == task.scripted_mode else None
+    try:
+        if source_mode == "ee_delta" or translator is not None:
+            translate = (translator or EEDeltaInMode)(backend, ee)
+            guessers.append(lambda a, target: translate(np.asarray(a, dtype=np.float64)))
+        if source_mode in shared_modes(task):
+            tracker = SiteTracker(backend, ee)
+            gripper = bool(tracker.rig.has_gripper)
+            guessers.append(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))
+    except ValueError as err:
+        raise DatasetError(f"{task.id}'s action_mode {mode!r} cannot follow a recorded trajectory: {err}") from None
+    if not guessers:
+        raise DatasetError(
+            f"the dataset was recorded in {source_mode!r}, the source's own controller, which has no grip-site rig "
+            "to read its trajectory from; convert a dataset of a shared-controller mode"
+        )
+    return lambda a, target: [guess(a, target) for guess in guessers]
+
+
+class _Track:
+    """Open loop: the first initial guess as it is."""
+
+    def __init__(self, guess: Guesser) -> None:
+        self.guess = guess
+
+    def start(self, seed: int) -> None:
+        pass
+
+    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
+        return self.guess(action, target)[0]
+
+
+class _Search:
+    """Each step's action searched from the converted env's checkpoint (:mod:`.search`)."""
+
+    def __init__(self, search: ActionSearch, backend, guess: Guesser) -> None:
+        self.search, self.backend, self.guess = search, backend, guess
+
+    def start(self, seed: int) -> None:
+        self.search.start(seed)
+
+    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
+        return self.search(self.backend.checkpoint(), self.guess(action, target), target).action
+
+
+def _recorded(env, ep, task_id: str) -> list[Target]:
+    """Where the recording was after each step: the grip site's position and velocity, read by restoring each recorded state in ``env`` (one with a rig), and the
+    recorded achieved goal."""
     backend = env.unwrapped.backend
+    rig = backend.rig
+    states = ep.infos["state"]
     env.reset(seed=0)
-    sites = []
-    for state in states:
+    if backend.get_state().shape != states[0].shape:
+        raise DatasetError(f"{task_id}'s recorded states do not fit the model of the mode converted into")
+    goals = np.asarray(ep.observations["achieved_goal"], dtype=np.float64)
+    targets = []
+    for state, goal in zip(states, goals):
         backend.set_state(state)
-        sites.append(np.array(backend.rig.site_position()))
-    return np.stack(sites)
+        targets.append(Target(np.array(rig.site_position()), site_velocity(rig), goal))
+    return targets
 
 
-def _convert_episode(env, tracker, ep, seed: int, sites: np.ndarray) -> tuple[Episode, EpisodeConversion]:
+def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float):
+    started = time.perf_counter()
     backend = env.unwrapped.backend
-    rig = tracker.rig
+    rig = backend.rig
     obs, info = env.reset(seed=seed)
     initial = ep.infos["state"][0]
     if backend.get_state().shape == initial.shape:
         backend.set_state(initial)
     if not np.array_equal(obs["desired_goal"], ep.observations["desired_goal"][0]):
         raise DatasetError(f"episode {ep.id}: reset with seed {seed} gives another goal than the recording's")
+    step.start(seed)
     episode = Episode(seed)
     episode.start(env, obs, info)
-    errors = []
+    errors, goal_errors = [], []
+    first_off = None
     for t, recorded in enumerate(ep.actions):
         if episode.done:
             break
-        action = tracker(sites[t + 1], float(recorded[-1]) if rig.has_gripper else None)
+        target = targets[t + 1]
+        action = step(recorded, target)
         obs, reward, terminated, truncated, info = env.step(action)
         episode.add(env, action, obs, reward, terminated, truncated, info)
-        errors.append(float(np.linalg.norm(rig.site_position() - sites[t + 1])))
+        errors.append(float(np.linalg.norm(rig.site_position() - target.site)))
+        goal_errors.append(float(np.linalg.norm(obs["achieved_goal"].astype(np.float64) - target.goal)))
+        if first_off is None and errors[-1] > tolerance_cm / 100:
+            first_off = t
     row = EpisodeConversion(
         episode=int(ep.id),
         steps=episode.steps,
@@ -197,5 +317,9 @@ def _convert_episode(env, tracker, ep, seed: int, sites: np.ndarray) -> tuple[Ep
         success_converted=episode.success,
         tracking_error_mean_cm=100 * float(np.mean(errors)),
         tracking_error_max_cm=100 * float(np.max(errors)),
+        goal_error_mean=float(np.mean(goal_errors)),
+        goal_error_max=float(np.max(goal_errors)),
+        first_step_off=first_off,
+        seconds=time.perf_counter() - started,
     )
     return episode, row

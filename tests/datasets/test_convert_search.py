@@ -1,0 +1,97 @@
+"""``convert``'s search against its open-loop tracking, on real episodes: the search keeps
+what tracking loses, leaves no trace in the converted episode (it replays exactly), and
+its settings and tolerance fail in one clear line."""
+
+from __future__ import annotations
+
+import pytest
+
+from unified_manip.datasets import DatasetError
+from unified_manip.datasets.convert import convert
+from unified_manip.datasets.policies import scripted
+from unified_manip.datasets.recording import collect
+from unified_manip.datasets.replay import replay
+from unified_manip.datasets.search import SearchConfig
+
+
+@pytest.fixture(scope="module")
+def pick_and_place(tmp_path_factory):
+    """Three scripted Arm4PickAndPlace episodes in ee_delta (seeds 0-2), all successes."""
+    path = tmp_path_factory.mktemp("search") / "arm-pick-ee-v0"
+    collect(
+        "UnifiedManip/Arm4PickAndPlace-v0",
+        {"action_mode": "ee_delta", "reward_type": "sparse"},
+        scripted,
+        "scripted",
+        "scripted",
+        3,
+        path,
+        only_successful=True,
+        progress=False,
+    )
+    return path
+
+
+def test_the_search_keeps_the_torque_episodes_that_tracking_loses(pick_and_place, tmp_path):
+    """In joint_torque, the recorded actions translated open loop drop every cube (the
+    servo's torques lag the recorded motion); searched step by step, every episode lands
+    on the recording and succeeds, and the written dataset replays exactly."""
+    tracked = convert(pick_and_place, "joint_torque", None, progress=False, method="track")
+    searched = convert(pick_and_place, "joint_torque", tmp_path / "torque-v0", progress=False)
+    assert [e.success_converted for e in tracked.episodes] == [False] * 3
+    assert [e.kept for e in searched.episodes] == [True] * 3
+    assert max(e.tracking_error_max_cm for e in searched.episodes) < 1.0
+    assert min(e.tracking_error_mean_cm for e in tracked.episodes) > 3.0
+    assert searched.kept == 3
+    assert replay(tmp_path / "torque-v0", progress=False).exact
+    assert replay(tmp_path / "torque-v0", from_actions=True, progress=False).exact
+
+
+def test_a_mode_whose_translation_is_exact_keeps_it(pick_and_place):
+    """joint_position plays the recorded ee_delta action as the same joint targets: the
+    translated action lands on the recording, and the search keeps it as it is."""
+    for method in ("track", "search"):
+        report = convert(pick_and_place, "joint_position", None, progress=False, method=method)
+        assert [e.kept for e in report.episodes] == [True] * 3
+        assert max(e.tracking_error_max_cm for e in report.episodes) < 0.01
+
+
+def test_each_episode_names_its_first_step_beyond_the_tolerance(pick_and_place):
+    """joint_delta lags the fast lift after the grasp (its step is capped): with a 1 cm
+    tolerance, episodes 0 and 1 leave it in the lift's first steps and are not kept,
+    though they succeed; with the default tolerance all three are kept."""
+    report = convert(pick_and_place, "joint_delta", None, progress=False, tolerance_cm=1.0)
+    firsts = [e.first_step_off for e in report.episodes]
+    assert all(f is not None and 15 <= f <= 40 for f in firsts[:2]), firsts
+    assert [e.success_converted for e in report.episodes] == [True] * 3
+    assert [e.kept for e in report.episodes] == [f is None for f in firsts]
+    default = convert(pick_and_place, "joint_delta", None, progress=False)
+    assert [e.kept for e in default.episodes] == [True] * 3
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"method": "replay"}, "convert's method must be one of search, track; got 'replay'"),
+        ({"tolerance_cm": 0.0}, "convert's tolerance must be a positive number of cm; got 0.0"),
+    ],
+)
+def test_bad_settings_fail_in_one_line(pick_and_place, kwargs, message):
+    with pytest.raises(DatasetError) as err:
+        convert(pick_and_place, "joint_delta", None, progress=False, **kwargs)
+    assert str(err.value) == message
+
+
+@pytest.mark.parametrize(
+    "field, value, message",
+    [
+        ("iterations", -1, "SearchConfig.iterations must be >= 0, got -1"),
+        ("difference", 0.0, "SearchConfig.difference must be > 0, got 0.0"),
+        ("goal_weight", -1.0, "SearchConfig.goal_weight must be > 0, got -1.0"),
+        ("velocity_weight", -0.1, "SearchConfig.velocity_weight must be >= 0, got -0.1"),
+    ],
+)
+def test_search_config_validates_itself(field, value, message):
+    with pytest.raises(ValueError) as err:
+        SearchConfig(**{field: value})
+    assert str(err.value) == message

@@ -1,0 +1,192 @@
+"""The action that reaches a recorded next state: how ``convert`` re-executes a step.
+
+From the converted episode's state, each step looks for the action of the new mode whose
+step lands the grip site nearest where the recording had it after that step, and the
+achieved goal (the object, a door's angle) nearest the recording's. Candidates are
+stepped in a *probe*: a second env of the same task and mode, reset with the episode's
+seed, into which the converted env's :meth:`~unified_manip.envs.backend.Backend.checkpoint`
+is restored before each try. The converted env itself only plays the chosen action, so
+its episode replays exactly from its seed and actions.
+
+The search is Gauss–Newton on finite differences over the action's arm entries, from an
+initial guess (the best landing of the recorded action translated into the mode and
+the open-loop tracker's action), whose gripper entry it keeps. Each iteration estimates the Jacobian of the
+residual with one probe step per arm entry, takes the damped least-squares step, and
+keeps it when the residual falls (halving it once when not). It stops once the grip
+site lands within ``accept_cm`` and the goal within as much.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: ``convert``'s methods: this search, or open-loop grip-site tracking (its initial guess).
+METHODS = ("search", "track")
+
+#: A converted step whose grip site lands further than this from the recording (cm) fails
+#: the episode.
+TOLERANCE_CM = 10.0
+
+
+@dataclass(frozen=True)
+class SearchConfig:
+    """How hard ``convert`` searches each step's action.
+
+    Attributes:
+        iterations: Gauss–Newton iterations at most per step.
+        difference: Finite-difference step, in action units.
+        damping: Levenberg damping added to ``JᵀJ``, relative to its largest diagonal entry.
+        goal_weight: The achieved goal's weight in the residual, against the grip site's
+            (both in the task's units, m for positions).
+        velocity_weight: The grip site's velocity's weight in the end-effector modes (s: a
+            velocity error of 1 m/s counts as a position error of this many metres). There
+            the action commands the site, and a site that lands right but moving wrong
+            overshoots the next step. The joint modes match positions only: with a joint
+            per action entry, the search bought the velocity with contorted joint targets
+            that lost the episode (docs/datasets.md has the measurements).
+        accept_cm: A landing this close (grip site and weighted goal, cm) ends the search.
+    """
+
+    iterations: int = 3
+    difference: float = 0.05
+    damping: float = 1e-3
+    goal_weight: float = 1.0
+    velocity_weight: float = 0.04
+    accept_cm: float = 0.5
+
+    def __post_init__(self) -> None:
+        if self.iterations < 0:
+            raise ValueError(f"SearchConfig.iterations must be >= 0, got {self.iterations}")
+        for name in ("difference", "damping", "goal_weight", "accept_cm"):
+            value = getattr(self, name)
+            if not value > 0:
+                raise ValueError(f"SearchConfig.{name} must be > 0, got {value}")
+        if not self.velocity_weight >= 0:
+            raise ValueError(f"SearchConfig.velocity_weight must be >= 0, got {self.velocity_weight}")
+
+
+@dataclass(frozen=True)
+class Target:
+    """Where a recorded step left the simulator, as the search compares it.
+
+    Attributes:
+        site: The grip site's position, world frame, m.
+        velocity: The grip site's linear velocity, world frame, m/s.
+        goal: The achieved goal.
+    """
+
+    site: np.ndarray
+    velocity: np.ndarray
+    goal: np.ndarray
+
+
+@dataclass(frozen=True)
+class Landing:
+    """The chosen action and where its probe step landed.
+
+    Attributes:
+        action: The action (float32, in [-1, 1]).
+        site_error: The grip site's distance from its target, m.
+        goal_error: The achieved goal's distance from its target (the goal's units).
+        probes: Probe steps spent.
+    """
+
+    action: np.ndarray
+    site_error: float
+    goal_error: float
+    probes: int
+
+
+class ActionSearch:
+    """Searches each step's action in ``probe``, an env of the converted task and mode.
+
+    Args:
+        probe: A gymnasium env of this project, made like the converted one; the search
+            steps its backend only.
+        config: The search's settings.
+    """
+
+    def __init__(self, probe, config: SearchConfig = SearchConfig()) -> None:
+        self.env, self.config = probe, config
+        self.backend = probe.unwrapped.backend
+        self.rig = self.backend.rig
+        self.arm = self.backend.action_dim - int(self.rig.has_gripper)
+        site_mode = hasattr(self.backend.control, "site_action_toward")
+        self.velocity_weight = config.velocity_weight if site_mode else 0.0
+        self.probes = 0
+
+    def start(self, seed: int) -> None:
+        """Reset the probe with the episode's seed (the goal, the placements, the held
+        rotation: whatever a reset fixes for the episode)."""
+        self.env.reset(seed=seed)
+
+    def _land(self, checkpoint, action: np.ndarray, target: Target) -> np.ndarray:
+        """The residual after stepping ``action`` from ``checkpoint``: the grip site's
+        offset from the target's, then the weighted goal's and arm velocities'."""
+        backend, c = self.backend, self.config
+        backend.restore(checkpoint)
+        backend.step(action.astype(np.float64))
+        self.probes += 1
+        achieved = np.asarray(backend.achieved_goal(), dtype=np.float64)
+        return np.concatenate(
+            (
+                self.rig.site_position() - target.site,
+                c.goal_weight * (achieved - target.goal),
+                self.velocity_weight * (site_velocity(self.rig) - target.velocity),
+            )
+        )
+
+    def __call__(self, checkpoint, guesses: list[np.ndarray], target: Target) -> Landing:
+        """The action from ``checkpoint`` (the converted env's) that lands nearest
+        ``target``, starting from the best of ``guesses``."""
+        c = self.config
+        self.probes = 0
+        arm = self.arm
+        landings = [(_as_action(g), self._land(checkpoint, _as_action(g), target)) for g in guesses]
+        x, r = min(landings, key=lambda xr: float(xr[1] @ xr[1]))
+
+        def residual(y: np.ndarray) -> np.ndarray:
+            return self._land(checkpoint, y, target)
+
+        accept = c.accept_cm / 100
+        goal = slice(3, 3 + target.goal.size)
+        for _ in range(c.iterations):
+            if np.linalg.norm(r[:3]) < accept and np.linalg.norm(r[goal]) < accept:
+                break
+            jac = np.empty((r.size, arm))
+            for i in range(arm):
+                h = c.difference if x[i] < 1 - c.difference else -c.difference
+                probe = x.copy()
+                probe[i] += h
+                jac[:, i] = (residual(_as_action(probe)) - r) / h
+            normal = jac.T @ jac
+            normal[np.diag_indices(arm)] += c.damping * max(float(normal.diagonal().max()), 1e-12)
+            delta = np.linalg.solve(normal, -jac.T @ r)
+            improved = False
+            for scale in (1.0, 0.5, 0.25, 0.125):
+                y = x.copy()
+                y[:arm] += scale * delta
+                y = _as_action(y)
+                ry = residual(y)
+                if ry @ ry < r @ r:
+                    x, r, improved = y, ry, True
+                    break
+            if not improved:
+                break
+        return Landing(x, float(np.linalg.norm(r[:3])), float(np.linalg.norm(r[goal]) / c.goal_weight), self.probes)
+
+
+def _as_action(x: np.ndarray) -> np.ndarray:
+    """``x`` as the env would take it from a dataset: float32, in [-1, 1]."""
+    return np.clip(np.asarray(x, dtype=np.float64), -1.0, 1.0).astype(np.float32)
+
+
+def site_velocity(rig) -> np.ndarray:
+    """The linear velocity of ``rig``'s grip site, world frame, m/s."""
+    import mujoco
+
+    out = np.empty(6)
+    mujoco.mj_objectVelocity(rig.model, rig.data, mujoco.mjtObj.mjOBJ_SITE, rig.site_id, out, 0)
+    return out[3:]
