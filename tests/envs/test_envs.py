@@ -252,21 +252,21 @@ def test_pickle_roundtrip_continues_identically(pair):
 def test_a_checkpoint_steps_on_in_another_env(pair):
     """What ``convert``'s search relies on: a backend's checkpoint, restored into another
     env of the same ID and mode reset with the same seed, steps on as the first would: the
-    same simulator states and achieved goals, bit for bit. (Observations may also carry
+    same simulator states and achieved goals over 3 steps, bit for bit. (Observations may also carry
     memory outside the physics, e.g. Meta-World's previous frame.) MuJoCo 3.3.0 binds no
     ``mj_copyData``: there the restored state is recomputed, and steps on to rounding."""
     import mujoco
 
     task_id, mode, env, other = pair
     same = _assert_same if hasattr(mujoco, "mj_copyData") else _assert_close
-    actions = random_actions(env, 10, seed=3)
+    actions = random_actions(env, 6, seed=3)
     env.reset(seed=4)
     other.reset(seed=4)
-    for a in actions[:5]:
+    for a in actions[:3]:
         env.step(a)
     other.unwrapped.backend.restore(env.unwrapped.backend.checkpoint())
     other.unwrapped.np_random.bit_generator.state = env.unwrapped.np_random.bit_generator.state
-    for a in actions[5:]:
+    for a in actions[3:]:
         ag, ag_other = env.step(a)[0]["achieved_goal"], other.step(a)[0]["achieved_goal"]
         same(env.unwrapped.backend.get_state(), other.unwrapped.backend.get_state())
         same(ag, ag_other)

@@ -4,7 +4,8 @@
   (``unified-manip collect``);
 - :mod:`.replay` replays a dataset from its states or its actions (``unified-manip replay``);
 - :mod:`.convert` re-executes a dataset in another action mode (``unified-manip convert``),
-  each step's action searched for by :mod:`.search` in a probe env;
+  each step's action searched for by :mod:`.search` in a probe env (:mod:`.steps`: the
+  initial guesses and the methods);
 - :mod:`.store` reads and publishes datasets on disk (temporary name, then rename);
 - :mod:`.versions` names the package versions a dataset was recorded with.
 

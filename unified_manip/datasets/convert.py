@@ -2,24 +2,23 @@
 
 Each episode starts from the recorded initial state (the env reset with the episode's
 seed, the recorded state restored over it where the two modes share a model) and then
-re-executes the recording step by step. Two methods:
+re-executes the recording step by step (:mod:`.steps`), by one of two methods:
 
-* ``search`` (the default): each step's action is searched for, in the new mode, so that
-  the step lands the grip site where the recording had it after that step and the
+* ``search`` (the default): each step's action is searched for in the new mode, so that
+  the step lands the grip site where the recording had it after that step, and the
   achieved goal (the object) where the recording's was (:mod:`.search`). Where the
   converted object drifts from the recording, the search trades grip-site error for
   object error, so it steers back toward the recorded object trajectory.
-* ``track``: open loop, the grip site driven toward its next recorded position through
-  the task's ``ee_delta`` IK and the mode's own controller
+* ``track``: open loop, the recorded action translated into the mode (as the
+  ``demonstrations`` run setting plays a scripted policy), or, for a dataset recorded in
+  another mode, the grip site driven toward its next recorded position
   (:class:`~unified_manip.envs.controllers.translate.SiteTracker`).
 
-Both pass the recorded gripper command through; the search starts from the tracker's
-action, or from the recorded action translated into the mode where the dataset was
-recorded in a mode without a grip-site rig (Meta-World's ``native``). The recorded grip-site
-positions are read by restoring each recorded state in an env that has the rig. The new
-episode is recorded with its own observations and states. A converted episode is kept
-when it ends in success and no step left the grip site further than ``tolerance_cm`` from
-the recording; the report names the first step that did.
+The recorded gripper command passes through. The recorded grip-site positions are read by
+restoring each recorded state in an env that has the task's rig. The new episode is
+recorded with its own observations and states. A converted episode is kept when it ends
+in success and no step left the grip site further than ``tolerance_cm`` from the
+recording; the report names the first step that did.
 """
 
 from __future__ import annotations
@@ -27,7 +26,7 @@ from __future__ import annotations
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -35,7 +34,8 @@ from unified_manip.datasets import store
 from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
-from unified_manip.datasets.search import METHODS, TOLERANCE_CM, ActionSearch, SearchConfig, Target, site_velocity
+from unified_manip.datasets.search import METHODS, TOLERANCE_CM, SearchConfig, Target
+from unified_manip.datasets.steps import recorded_targets, stepper
 
 
 @dataclass(frozen=True)
@@ -137,7 +137,7 @@ def convert(
     target = gym.make(spec.id, **kwargs)
     probe = gym.make(spec.id, **kwargs) if method == "search" else None
     try:
-        step = _stepper(task, target, probe, source_mode, method, search)
+        step = stepper(task, target, probe, source_mode, method, search)
         indices = dataset.episode_indices[:first]
         seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(indices)]
         rows, kept = [], []
@@ -149,7 +149,7 @@ def convert(
         )
         reader = source if getattr(source.unwrapped.backend, "rig", None) is not None else target
         for seed, ep in zip(seeds, bar):
-            targets = _recorded(reader, ep, task.id)
+            targets = recorded_targets(reader, ep, task.id)
             try:
                 episode, row = _convert_episode(target, step, ep, seed, targets, tolerance_cm)
             except ValueError as err:  # a controller that cannot follow a target on this robot
@@ -193,95 +193,6 @@ def _task(env_id: str):
     from unified_manip.envs.registry import get_task
 
     return get_task(env_id)
-
-
-#: One converted step: ``(recorded action, where the recording was after it) -> action``.
-Stepper = Callable[[np.ndarray, Target], np.ndarray]
-#: Its initial guesses, the same way.
-Guesser = Callable[[np.ndarray, Target], list[np.ndarray]]
-
-
-def _stepper(task, target, probe, source_mode: str, method: str, config: SearchConfig):
-    """What picks each converted step's action: the initial guess itself (``track``), or
-    the search from it (``search``)."""
-    backend = target.unwrapped.backend
-    guess = _guesser(task, backend, source_mode, target.unwrapped.config.action_mode)
-    if method == "track":
-        return _Track(guess)
-    return _Search(ActionSearch(probe, config), backend, guess)
-
-
-def _guesser(task, backend, source_mode: str, mode: str) -> Guesser:
-    """Each step's initial guesses: the recorded action translated into the mode, where
-    the dataset was recorded in ``ee_delta`` or in its scripted policy's own mode (as the
-    ``demonstrations`` run setting plays a scripted policy: Meta-World's ``native``
-    through its policy's translator); and, where it was recorded in a mode of the shared
-    controllers, the tracker's action toward the next recorded grip site with the recorded
-    gripper command. The first is ``track``'s action."""
-    from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker
-
-    ee = task.controllers["ee_delta"]
-    guessers = []
-    translator = getattr(task.scripted_policy, "translator", None) if source_mode == task.scripted_mode else None
-    try:
-        if source_mode == "ee_delta" or translator is not None:
-            translate = (translator or EEDeltaInMode)(backend, ee)
-            guessers.append(lambda a, target: translate(np.asarray(a, dtype=np.float64)))
-        if source_mode in shared_modes(task):
-            tracker = SiteTracker(backend, ee)
-            gripper = bool(tracker.rig.has_gripper)
-            guessers.append(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))
-    except ValueError as err:
-        raise DatasetError(f"{task.id}'s action_mode {mode!r} cannot follow a recorded trajectory: {err}") from None
-    if not guessers:
-        raise DatasetError(
-            f"the dataset was recorded in {source_mode!r}, the source's own controller, which has no grip-site rig "
-            "to read its trajectory from; convert a dataset of a shared-controller mode"
-        )
-    return lambda a, target: [guess(a, target) for guess in guessers]
-
-
-class _Track:
-    """Open loop: the first initial guess as it is."""
-
-    def __init__(self, guess: Guesser) -> None:
-        self.guess = guess
-
-    def start(self, seed: int) -> None:
-        pass
-
-    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
-        return self.guess(action, target)[0]
-
-
-class _Search:
-    """Each step's action searched from the converted env's checkpoint (:mod:`.search`)."""
-
-    def __init__(self, search: ActionSearch, backend, guess: Guesser) -> None:
-        self.search, self.backend, self.guess = search, backend, guess
-
-    def start(self, seed: int) -> None:
-        self.search.start(seed)
-
-    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
-        return self.search(self.backend.checkpoint(), self.guess(action, target), target).action
-
-
-def _recorded(env, ep, task_id: str) -> list[Target]:
-    """Where the recording was after each step: the grip site's position and velocity, read by restoring each recorded state in ``env`` (one with a rig), and the
-    recorded achieved goal."""
-    backend = env.unwrapped.backend
-    rig = backend.rig
-    states = ep.infos["state"]
-    env.reset(seed=0)
-    if backend.get_state().shape != states[0].shape:
-        raise DatasetError(f"{task_id}'s recorded states do not fit the model of the mode converted into")
-    goals = np.asarray(ep.observations["achieved_goal"], dtype=np.float64)
-    targets = []
-    for state, goal in zip(states, goals):
-        backend.set_state(state)
-        targets.append(Target(np.array(rig.site_position()), site_velocity(rig), goal))
-    return targets
 
 
 def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float):

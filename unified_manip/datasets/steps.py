@@ -1,0 +1,100 @@
+"""Each converted step's action: the initial guesses, and ``convert``'s two methods over
+them (``track`` plays the first guess; ``search`` searches from the best, :mod:`.search`)."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from unified_manip.datasets.errors import DatasetError
+from unified_manip.datasets.policies import shared_modes
+from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, site_velocity
+
+#: One converted step: ``(recorded action, where the recording was after it) -> action``.
+Stepper = Callable[[np.ndarray, Target], np.ndarray]
+#: Its initial guesses, the same way.
+Guesser = Callable[[np.ndarray, Target], list[np.ndarray]]
+
+
+def stepper(task, target, probe, source_mode: str, method: str, config: SearchConfig):
+    """What picks each converted step's action: the initial guess itself (``track``), or
+    the search from it (``search``)."""
+    backend = target.unwrapped.backend
+    guess = guesser(task, backend, source_mode, target.unwrapped.config.action_mode)
+    if method == "track":
+        return _Track(guess)
+    return _Search(ActionSearch(probe, config), backend, guess)
+
+
+def guesser(task, backend, source_mode: str, mode: str) -> Guesser:
+    """Each step's initial guesses: the recorded action translated into the mode, where
+    the dataset was recorded in ``ee_delta`` or in its scripted policy's own mode (as the
+    ``demonstrations`` run setting plays a scripted policy: Meta-World's ``native``
+    through its policy's translator); and, where it was recorded in a mode of the shared
+    controllers, the tracker's action toward the next recorded grip site with the recorded
+    gripper command. The first is ``track``'s action."""
+    from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker
+
+    ee = task.controllers["ee_delta"]
+    guessers = []
+    translator = getattr(task.scripted_policy, "translator", None) if source_mode == task.scripted_mode else None
+    try:
+        if source_mode == "ee_delta" or translator is not None:
+            translate = (translator or EEDeltaInMode)(backend, ee)
+            guessers.append(lambda a, target: translate(np.asarray(a, dtype=np.float64)))
+        if source_mode in shared_modes(task):
+            tracker = SiteTracker(backend, ee)
+            gripper = bool(tracker.rig.has_gripper)
+            guessers.append(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))
+    except ValueError as err:
+        raise DatasetError(f"{task.id}'s action_mode {mode!r} cannot follow a recorded trajectory: {err}") from None
+    if not guessers:
+        raise DatasetError(
+            f"the dataset was recorded in {source_mode!r}, the source's own controller, which has no grip-site rig "
+            "to read its trajectory from; convert a dataset of a shared-controller mode"
+        )
+    return lambda a, target: [guess(a, target) for guess in guessers]
+
+
+class _Track:
+    """Open loop: the first initial guess as it is."""
+
+    def __init__(self, guess: Guesser) -> None:
+        self.guess = guess
+
+    def start(self, seed: int) -> None:
+        pass
+
+    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
+        return self.guess(action, target)[0]
+
+
+class _Search:
+    """Each step's action searched from the converted env's checkpoint (:mod:`.search`)."""
+
+    def __init__(self, search: ActionSearch, backend, guess: Guesser) -> None:
+        self.search, self.backend, self.guess = search, backend, guess
+
+    def start(self, seed: int) -> None:
+        self.search.start(seed)
+
+    def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
+        return self.search(self.backend.checkpoint(), self.guess(action, target), target).action
+
+
+def recorded_targets(env, ep, task_id: str) -> list[Target]:
+    """Where the recording was after each step: the grip site's position and velocity, read by restoring each recorded state in ``env`` (one with a rig), and the
+    recorded achieved goal."""
+    backend = env.unwrapped.backend
+    rig = backend.rig
+    states = ep.infos["state"]
+    env.reset(seed=0)
+    if backend.get_state().shape != states[0].shape:
+        raise DatasetError(f"{task_id}'s recorded states do not fit the model of the mode converted into")
+    goals = np.asarray(ep.observations["achieved_goal"], dtype=np.float64)
+    targets = []
+    for state, goal in zip(states, goals):
+        backend.set_state(state)
+        targets.append(Target(np.array(rig.site_position()), site_velocity(rig), goal))
+    return targets
