@@ -1,13 +1,14 @@
-"""The conversion table: per task, the share of recorded ``ee_delta`` episodes that still
+"""The conversion table: per task, the share of recorded scripted episodes that still
 succeed when ``convert`` re-executes them in each action mode, with the tracking error.
 
 Run it as ``python -m benchmarks.conversion_table --env ID[,ID...] --episodes 50
---out DIR``; it records ``--episodes`` successful scripted episodes per task into
-``DIR/<task>-ee_delta-v0``, converts them to every other mode by ``--method`` (``search``,
-the default, or ``track``: open loop; measuring only, no datasets written) and prints a Markdown table (and ``--json``'s document). For comparison
-it also plays the scripted policy live in each mode from the same reset seeds, its
-actions translated one by one (:class:`~unified_manip.envs.controllers.translate.EEDeltaInMode`,
-what a run's ``demonstrations`` do today).
+--out DIR``. It records ``--episodes`` successful scripted episodes per task into
+``DIR/<task>-<mode>-v0``, in the mode the scripted policy emits (``ee_delta``, or
+Meta-World's ``native``). It converts them to every mode by ``--method`` (``search``, the
+default, or ``track``: open loop), measuring only, with no datasets written, and prints a
+Markdown table (and ``--json``'s document). For comparison it also plays the scripted
+policy live in each mode from the same reset seeds, its actions translated one by one,
+as a run's ``demonstrations`` do.
 """
 
 from __future__ import annotations
@@ -40,8 +41,9 @@ def measure(
     progress: bool = False,
     method: str = "search",
 ) -> dict[str, Any]:
-    """Record ``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` and
-    convert them to ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
+    """Record ``episodes`` successful scripted episodes of ``task_id`` in the mode its
+    scripted policy emits (``ee_delta``; Meta-World's ``native``) and convert them to
+    ``modes`` (default: every mode of the task); ``{mode: {...}}`` per mode.
     ``translated=False`` leaves out the live per-action translation (it doubles the time);
     ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode;
     ``progress`` shows the recording's and each conversion's progress bars; ``method`` is
@@ -49,12 +51,13 @@ def measure(
     tolerance), ``succeeded`` those that succeed at all."""
     spec = get_task(task_id)
     # The version is in the name: Arm4Push-v0 and -v1 share a spec name, not their episodes.
-    path = Path(out) / f"{task_id.split('/')[-1]}-ee_delta-v0"
+    source = spec.scripted_mode
+    path = Path(out) / f"{task_id.split('/')[-1]}-{source}-v0"
     start = time.perf_counter()
     if not path.exists():  # a recording of an earlier, interrupted measurement is reused
         collect(
             task_id,
-            {"action_mode": "ee_delta", "reward_type": "sparse"},
+            {"action_mode": source, "reward_type": "sparse"},
             scripted,
             "scripted",
             f"scripted policy of {task_id}",
