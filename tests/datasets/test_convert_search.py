@@ -69,6 +69,28 @@ def test_each_episode_names_its_first_step_beyond_the_tolerance(pick_and_place):
     assert [e.kept for e in default.episodes] == [True] * 3
 
 
+@pytest.mark.robosuite
+def test_a_two_arm_episode_converts_arm_by_arm(tmp_path):
+    """TwoArmLift's scripted ee_delta episode, 2 x (3 + 1), searched into ee_target_delta
+    arm by arm: it lands on the recording (both grip sites within 1 mm) and succeeds."""
+    source = tmp_path / "two-arm-ee-v0"
+    collect(
+        "UnifiedManip/TwoArmLift-v0",
+        {"action_mode": "ee_delta", "reward_type": "sparse"},
+        scripted,
+        "scripted",
+        "scripted",
+        1,
+        source,
+        only_successful=True,
+        progress=False,
+    )
+    report = convert(source, "ee_target_delta", tmp_path / "two-arm-target-v0", progress=False)
+    assert [e.kept for e in report.episodes] == [True]
+    assert report.episodes[0].tracking_error_max_cm < 0.1
+    assert replay(tmp_path / "two-arm-target-v0", from_actions=True, progress=False).exact
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [

@@ -34,7 +34,7 @@ from unified_manip.datasets import store
 from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
-from unified_manip.datasets.search import METHODS, TOLERANCE_CM, SearchConfig, Target
+from unified_manip.datasets.search import METHODS, TOLERANCE_CM, SearchConfig, Target, sites
 from unified_manip.datasets.steps import recorded_targets, stepper
 
 
@@ -196,9 +196,11 @@ def _task(env_id: str):
 
 
 def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float):
+    from unified_manip.envs.controllers.translate import arms
+
     started = time.perf_counter()
     backend = env.unwrapped.backend
-    rig = backend.rig
+    rigs = [arm.rig for arm in arms(backend)]
     obs, info = env.reset(seed=seed)
     initial = ep.infos["state"][0]
     if backend.get_state().shape == initial.shape:
@@ -217,7 +219,7 @@ def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_
         action = step(recorded, target)
         obs, reward, terminated, truncated, info = env.step(action)
         episode.add(env, action, obs, reward, terminated, truncated, info)
-        errors.append(float(np.linalg.norm(rig.site_position() - target.site)))
+        errors.append(float(np.max(np.linalg.norm((sites(rigs) - target.site).reshape(-1, 3), axis=1))))
         goal_errors.append(float(np.linalg.norm(obs["achieved_goal"].astype(np.float64) - target.goal)))
         if first_off is None and errors[-1] > tolerance_cm / 100:
             first_off = t

@@ -72,8 +72,8 @@ class Target:
     """Where a recorded step left the simulator, as the search compares it.
 
     Attributes:
-        site: The grip site's position, world frame, m.
-        velocity: The grip site's linear velocity, world frame, m/s.
+        site: The grip site's position, world frame, m (each arm's in turn).
+        velocity: The grip site's linear velocity, world frame, m/s (each arm's in turn).
         goal: The achieved goal.
     """
 
@@ -109,11 +109,19 @@ class ActionSearch:
     """
 
     def __init__(self, probe, config: SearchConfig = SearchConfig()) -> None:
+        from unified_manip.envs.controllers.translate import arms
+
         self.env, self.config = probe, config
         self.backend = probe.unwrapped.backend
-        self.rig = self.backend.rig
-        self.arm = self.backend.action_dim - int(self.rig.has_gripper)
-        site_mode = hasattr(self.backend.control, "site_action_toward")
+        views = arms(self.backend)
+        self.rigs = [v.rig for v in views]
+        # The action's arm entries: each arm's part but its gripper entry.
+        entries, start = [], 0
+        for v in views:
+            entries.append(start + np.arange(v.control.action_dim - int(v.rig.has_gripper)))
+            start += v.control.action_dim
+        self.arm = np.concatenate(entries)
+        site_mode = hasattr(views[0].control, "site_action_toward")
         self.velocity_weight = config.velocity_weight if site_mode else 0.0
         self.probes = 0
 
@@ -132,9 +140,9 @@ class ActionSearch:
         achieved = np.asarray(backend.achieved_goal(), dtype=np.float64)
         return np.concatenate(
             (
-                self.rig.site_position() - target.site,
+                sites(self.rigs) - target.site,
                 c.goal_weight * (achieved - target.goal),
-                self.velocity_weight * (site_velocity(self.rig) - target.velocity),
+                self.velocity_weight * (site_velocities(self.rigs) - target.velocity),
             )
         )
 
@@ -146,28 +154,29 @@ class ActionSearch:
         arm = self.arm
         landings = [(_as_action(g), self._land(checkpoint, _as_action(g), target)) for g in guesses]
         x, r = min(landings, key=lambda xr: float(xr[1] @ xr[1]))
+        site = slice(0, target.site.size)
 
         def residual(y: np.ndarray) -> np.ndarray:
             return self._land(checkpoint, y, target)
 
         accept = c.accept_cm / 100
-        goal = slice(3, 3 + target.goal.size)
+        goal = slice(site.stop, site.stop + target.goal.size)
         for _ in range(c.iterations):
-            if np.linalg.norm(r[:3]) < accept and np.linalg.norm(r[goal]) < accept:
+            if np.linalg.norm(r[site]) < accept and np.linalg.norm(r[goal]) < accept:
                 break
-            jac = np.empty((r.size, arm))
-            for i in range(arm):
+            jac = np.empty((r.size, arm.size))
+            for j, i in enumerate(arm):
                 h = c.difference if x[i] < 1 - c.difference else -c.difference
                 probe = x.copy()
                 probe[i] += h
-                jac[:, i] = (residual(_as_action(probe)) - r) / h
+                jac[:, j] = (residual(_as_action(probe)) - r) / h
             normal = jac.T @ jac
-            normal[np.diag_indices(arm)] += c.damping * max(float(normal.diagonal().max()), 1e-12)
+            normal[np.diag_indices(arm.size)] += c.damping * max(float(normal.diagonal().max()), 1e-12)
             delta = np.linalg.solve(normal, -jac.T @ r)
             improved = False
             for scale in (1.0, 0.5, 0.25, 0.125):
                 y = x.copy()
-                y[:arm] += scale * delta
+                y[arm] += scale * delta
                 y = _as_action(y)
                 ry = residual(y)
                 if ry @ ry < r @ r:
@@ -175,7 +184,7 @@ class ActionSearch:
                     break
             if not improved:
                 break
-        return Landing(x, float(np.linalg.norm(r[:3])), float(np.linalg.norm(r[goal]) / c.goal_weight), self.probes)
+        return Landing(x, float(np.linalg.norm(r[site])), float(np.linalg.norm(r[goal]) / c.goal_weight), self.probes)
 
 
 def _as_action(x: np.ndarray) -> np.ndarray:
@@ -183,10 +192,18 @@ def _as_action(x: np.ndarray) -> np.ndarray:
     return np.clip(np.asarray(x, dtype=np.float64), -1.0, 1.0).astype(np.float32)
 
 
-def site_velocity(rig) -> np.ndarray:
-    """The linear velocity of ``rig``'s grip site, world frame, m/s."""
+def sites(rigs) -> np.ndarray:
+    """The grip sites' positions of ``rigs``, one after another, world frame, m."""
+    return np.concatenate([rig.site_position() for rig in rigs])
+
+
+def site_velocities(rigs) -> np.ndarray:
+    """The grip sites' linear velocities of ``rigs``, one after another, world frame, m/s."""
     import mujoco
 
     out = np.empty(6)
-    mujoco.mj_objectVelocity(rig.model, rig.data, mujoco.mjtObj.mjOBJ_SITE, rig.site_id, out, 0)
-    return out[3:]
+    velocities = []
+    for rig in rigs:
+        mujoco.mj_objectVelocity(rig.model, rig.data, mujoco.mjtObj.mjOBJ_SITE, rig.site_id, out, 0)
+        velocities.append(out[3:].copy())
+    return np.concatenate(velocities)

@@ -9,7 +9,7 @@ import numpy as np
 
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
-from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, site_velocity
+from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, site_velocities, sites
 
 #: One converted step: ``(recorded action, where the recording was after it) -> action``.
 Stepper = Callable[[np.ndarray, Target], np.ndarray]
@@ -33,8 +33,8 @@ def guesser(task, backend, source_mode: str, mode: str) -> Guesser:
     ``demonstrations`` run setting plays a scripted policy: Meta-World's ``native``
     through its policy's translator); and, where it was recorded in a mode of the shared
     controllers, the tracker's action toward the next recorded grip site with the recorded
-    gripper command. The first is ``track``'s action."""
-    from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker
+    gripper command (one arm). The first is ``track``'s action."""
+    from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker, arms
 
     ee = task.controllers["ee_delta"]
     guessers = []
@@ -43,7 +43,7 @@ def guesser(task, backend, source_mode: str, mode: str) -> Guesser:
         if source_mode == "ee_delta" or translator is not None:
             translate = (translator or EEDeltaInMode)(backend, ee)
             guessers.append(lambda a, target: translate(np.asarray(a, dtype=np.float64)))
-        if source_mode in shared_modes(task):
+        if source_mode in shared_modes(task) and len(arms(backend)) == 1:
             tracker = SiteTracker(backend, ee)
             gripper = bool(tracker.rig.has_gripper)
             guessers.append(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))
@@ -84,10 +84,13 @@ class _Search:
 
 
 def recorded_targets(env, ep, task_id: str) -> list[Target]:
-    """Where the recording was after each step: the grip site's position and velocity, read by restoring each recorded state in ``env`` (one with a rig), and the
-    recorded achieved goal."""
+    """Where the recording was after each step: the grip sites' positions and velocities,
+    read by restoring each recorded state in ``env`` (one with rigs), and the recorded
+    achieved goal."""
+    from unified_manip.envs.controllers.translate import arms
+
     backend = env.unwrapped.backend
-    rig = backend.rig
+    rigs = [arm.rig for arm in arms(backend)]
     states = ep.infos["state"]
     env.reset(seed=0)
     if backend.get_state().shape != states[0].shape:
@@ -96,5 +99,5 @@ def recorded_targets(env, ep, task_id: str) -> list[Target]:
     targets = []
     for state, goal in zip(states, goals):
         backend.set_state(state)
-        targets.append(Target(np.array(rig.site_position()), site_velocity(rig), goal))
+        targets.append(Target(sites(rigs), site_velocities(rigs), goal))
     return targets

@@ -13,6 +13,7 @@ success can differ by mode (demonstrations record it).
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -21,11 +22,23 @@ from unified_manip.envs.controllers.configs import EEDelta
 from unified_manip.envs.controllers.ik import MinkIK
 
 
+def arms(backend: Any) -> list[Any]:
+    """Each arm of ``backend`` as a one-arm view (``rig``, ``control``): its rig and the
+    mode's controller on it (a two-arm task's :class:`~.composite.PerRig` part), in the
+    action's order."""
+    rigs = list(getattr(backend, "rigs", None) or [backend.rig])
+    control = getattr(backend, "control", None)
+    parts = list(getattr(control, "parts", [control] * len(rigs)))
+    return [SimpleNamespace(rig=r, control=c) for r, c in zip(rigs, parts)]
+
+
 class EEDeltaInMode:
-    """Maps ``ee_delta`` actions to the actions of ``backend``'s mode.
+    """Maps ``ee_delta`` actions to the actions of ``backend``'s mode, arm by arm (a
+    two-arm task's ``ee_delta`` action is each arm's ``(dx, dy, dz, gripper)`` in turn).
 
     Args:
-        backend: A backend with a ``rig`` and a ``control`` of the shared controllers.
+        backend: A backend with a ``rig`` (or ``rigs``) and a ``control`` of the shared
+            controllers.
         ee: The task's ``ee_delta`` config (step and IK settings).
 
     Raises:
@@ -34,12 +47,17 @@ class EEDeltaInMode:
     """
 
     def __init__(self, backend: Any, ee: EEDelta) -> None:
-        self.tracker = SiteTracker(backend, ee)
+        self.trackers = [SiteTracker(arm, ee) for arm in arms(backend)]
         self.step = ee.step
 
     def __call__(self, ee_action: np.ndarray) -> np.ndarray:
-        target = self.tracker.rig.site_position() + np.asarray(ee_action[:3]) * self.step
-        return self.tracker(target, ee_action[3] if self.tracker.rig.has_gripper else None)
+        out, start = [], 0
+        for tracker in self.trackers:
+            gripper = tracker.rig.has_gripper
+            a = np.asarray(ee_action[start : start + 3 + int(gripper)])
+            start += 3 + int(gripper)
+            out.append(tracker(tracker.rig.site_position() + a[:3] * self.step, a[3] if gripper else None))
+        return np.concatenate(out)
 
 
 class SiteTracker:
@@ -51,11 +69,13 @@ class SiteTracker:
     grip-site trajectory; :class:`EEDeltaInMode` with ``p + a[:3] * step``.
 
     Args:
-        backend: A backend with a ``rig`` and a ``control`` of the shared controllers.
+        backend: A backend with a ``rig`` and a ``control`` of the shared controllers (one
+            arm: a task of several arms passes each of :func:`arms`).
         ee: The task's ``ee_delta`` config (IK settings).
 
     Raises:
-        ValueError: the backend's mode is not driven by a shared controller, or its
+        ValueError: the backend has several arms, its mode is not driven by a shared
+            controller, or its
             controller cannot follow a joint target on this robot (``joint_torque`` on
             robosuite, whose arms have no servo gains here).
     """
@@ -63,10 +83,7 @@ class SiteTracker:
     def __init__(self, backend: Any, ee: EEDelta) -> None:
         control: Any = getattr(backend, "control", None)
         if len(getattr(backend, "rigs", ())) > 1:
-            raise ValueError(
-                "ee_delta actions are played in other modes on one arm only; a task of several arms "
-                "(TwoArmLift) records its scripted policy in ee_delta"
-            )
+            raise ValueError("a SiteTracker follows one arm; track each of a two-arm task's arms (translate.arms)")
         self.site_mode = hasattr(control, "site_action_toward")
         if not (self.site_mode or hasattr(control, "action_toward")):
             raise ValueError(
