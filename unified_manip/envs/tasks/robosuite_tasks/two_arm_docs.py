@@ -76,8 +76,9 @@ Scripted policy (ee_delta): each gripper lines up 6 cm above its handle, comes d
 open and closes; once both are closed on their handles, both carry the pot to the goal
 together. Measured: 29 of 30 seeded episodes (seeds 0-29, each played to its 150 steps,
 one ``unified-manip collect``) end in success, and 10 of 10 at seeds 1000-1009 end with
-is_success and native success. It plays ee_delta only: translating its actions into the
-other modes is done for one arm, and asking for another mode says so.
+is_success and native success. In the other shared modes its actions are translated arm by
+arm (live, as ``demonstrations`` plays it, and by ``unified-manip convert``); in
+joint_position it succeeded in 1 of 2 episodes (seeds 0-1).
 
 {TWO_ARM_OPTIONS}
 
@@ -119,7 +120,7 @@ side and carries the hammer to the middle of the table, 20 cm above it; arm 1 gr
 handle 4 cm from the middle on the other side; once it holds, arm 0 opens, rises and backs
 away. Measured: 29 of 30 seeded episodes (seeds 0-29, each played to its 300 steps, one
 ``unified-manip collect``) end in success, and 8 of 10 at seeds 1000-1009. Like the lift's,
-it plays ee_delta only. Of the two failures at seeds 1000-1009, one ends with the hammer
+its actions are translated arm by arm into the other shared modes. Of the two failures at seeds 1000-1009, one ends with the hammer
 back on the table, held by neither arm, the other with arm 0 holding it up and arm 1
 never closed on the handle.
 
