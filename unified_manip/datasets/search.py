@@ -133,11 +133,16 @@ class ActionSearch:
     def _land(self, checkpoint, action: np.ndarray, target: Target) -> np.ndarray:
         """The residual after stepping ``action`` from ``checkpoint``: the grip site's
         offset from the target's, then the weighted goal's and arm velocities'."""
+        import mujoco
+
         backend, c = self.backend, self.config
         backend.restore(checkpoint)
         backend.step(action.astype(np.float64))
         self.probes += 1
-        achieved = np.asarray(backend.achieved_goal(), dtype=np.float64)
+        achieved = np.asarray(backend.achieved_goal(), dtype=np.float64)  # as the recorded observation read it
+        # The sites and velocities as a restored recorded state reads them (mj_step leaves
+        # them a substep behind; the probe is restored before its next try anyway).
+        mujoco.mj_forward(backend.model, backend.data)
         return np.concatenate(
             (
                 sites(self.rigs) - target.site,
