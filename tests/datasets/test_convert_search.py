@@ -14,22 +14,17 @@ from unified_manip.datasets.replay import replay
 from unified_manip.datasets.search import SearchConfig
 
 
+def _scripted(task_id: str, episodes: int, path):
+    """``episodes`` successful scripted ``ee_delta`` episodes of ``task_id`` (seeds from 0) at ``path``."""
+    kwargs = {"action_mode": "ee_delta", "reward_type": "sparse"}
+    collect(task_id, kwargs, scripted, "scripted", "scripted", episodes, path, only_successful=True, progress=False)
+    return path
+
+
 @pytest.fixture(scope="module")
 def pick_and_place(tmp_path_factory):
     """Three scripted Arm4PickAndPlace episodes in ee_delta (seeds 0-2), all successes."""
-    path = tmp_path_factory.mktemp("search") / "arm-pick-ee-v0"
-    collect(
-        "UnifiedManip/Arm4PickAndPlace-v0",
-        {"action_mode": "ee_delta", "reward_type": "sparse"},
-        scripted,
-        "scripted",
-        "scripted",
-        3,
-        path,
-        only_successful=True,
-        progress=False,
-    )
-    return path
+    return _scripted("UnifiedManip/Arm4PickAndPlace-v0", 3, tmp_path_factory.mktemp("search") / "arm-pick-ee-v0")
 
 
 def test_the_search_keeps_the_torque_episodes_that_tracking_loses(pick_and_place, tmp_path):
@@ -73,18 +68,7 @@ def test_each_episode_names_its_first_step_beyond_the_tolerance(pick_and_place):
 def test_a_two_arm_episode_converts_arm_by_arm(tmp_path):
     """TwoArmLift's scripted ee_delta episode, 2 x (3 + 1), searched into ee_target_delta
     arm by arm: it lands on the recording (both grip sites within 1 mm) and succeeds."""
-    source = tmp_path / "two-arm-ee-v0"
-    collect(
-        "UnifiedManip/TwoArmLift-v0",
-        {"action_mode": "ee_delta", "reward_type": "sparse"},
-        scripted,
-        "scripted",
-        "scripted",
-        1,
-        source,
-        only_successful=True,
-        progress=False,
-    )
+    source = _scripted("UnifiedManip/TwoArmLift-v0", 1, tmp_path / "two-arm-ee-v0")
     report = convert(source, "ee_target_delta", tmp_path / "two-arm-target-v0", progress=False)
     assert [e.kept for e in report.episodes] == [True]
     assert report.episodes[0].tracking_error_max_cm < 0.1

@@ -79,9 +79,9 @@ def add_commands(sub) -> None:
     p.add_argument(
         "--method",
         choices=METHODS,
-        default="search",
-        help="search each step's action for the recorded next state (default), or track the recorded "
-        "grip-site trajectory open loop",
+        default=METHODS[0],
+        help="search each step's action for the recorded next state (default), or play the recorded "
+        "actions translated into the mode, open loop",
     )
     p.add_argument(
         "--tolerance",
@@ -227,17 +227,8 @@ def cmd_convert(args: argparse.Namespace) -> int:
         tolerance_cm=args.tolerance,
     )
     table = Table(title=f"{args.dataset} converted to {args.action_mode} ({args.method})")
-    columns = (
-        "episode",
-        "steps",
-        "success recorded",
-        "success converted",
-        "grip site off cm (mean / max)",
-        "goal off (mean / max)",
-        "first step off",
-        "s",
-    )
-    for col in columns:
+    columns = "episode|steps|success recorded|success converted|grip site off cm (mean / max)|goal off (mean / max)"
+    for col in columns.split("|") + ["first step off", "s"]:
         table.add_column(col, justify="right")
     for e in report.episodes:
         table.add_row(

@@ -95,7 +95,7 @@ def convert(
     observation: Any = None,
     keep: int | None = None,
     max_failed: int | None = None,
-    method: str = "search",
+    method: str = METHODS[0],
     tolerance_cm: float = TOLERANCE_CM,
     search: SearchConfig = SearchConfig(),
 ) -> ConvertReport:
@@ -178,7 +178,7 @@ def convert(
                 "dropped_episodes": len(rows) - len(kept),
                 "only_successful": not keep_failed,
             }
-            how = "searching each step's action" if method == "search" else "tracking its grip-site trajectory"
+            how = "searching each step's action" if method == "search" else "playing its actions translated, open loop"
             description = f"{path} converted to action_mode {action_mode!r} by {how}"
             store.publish(out, kept, target, published, description)
     finally:

@@ -8,12 +8,13 @@ seed, into which the converted env's :meth:`~unified_manip.envs.backend.Backend.
 is restored before each try. The converted env itself only plays the chosen action, so
 its episode replays exactly from its seed and actions.
 
-The search is Gauss–Newton on finite differences over the action's arm entries, from an
-initial guess (the best landing of the recorded action translated into the mode and
-the open-loop tracker's action), whose gripper entry it keeps. Each iteration estimates the Jacobian of the
-residual with one probe step per arm entry, takes the damped least-squares step, and
-keeps it when the residual falls (halving it once when not). It stops once the grip
-site lands within ``accept_cm`` and the goal within as much.
+The search is Gauss–Newton on finite differences over the action's arm entries. It starts
+from the best-landing initial guess (the recorded action translated into the mode, and
+the open-loop tracker's action) and keeps its gripper entry. Each iteration estimates the
+Jacobian of the residual with one probe step per arm entry, takes the damped
+least-squares step, and keeps it when the residual falls (halving it up to three times
+when not). It stops once the grip site lands within ``accept_cm`` and the goal within as
+much.
 """
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: ``convert``'s methods: this search, or open-loop grip-site tracking (its initial guess).
+#: ``convert``'s methods, the default first: this search, or its first initial guess played
+#: open loop.
 METHODS = ("search", "track")
 
 #: A converted step whose grip site lands further than this from the recording (cm) fails
@@ -161,9 +163,6 @@ class ActionSearch:
         x, r = min(landings, key=lambda xr: float(xr[1] @ xr[1]))
         site = slice(0, target.site.size)
 
-        def residual(y: np.ndarray) -> np.ndarray:
-            return self._land(checkpoint, y, target)
-
         accept = c.accept_cm / 100
         goal = slice(site.stop, site.stop + target.goal.size)
         for _ in range(c.iterations):
@@ -174,7 +173,7 @@ class ActionSearch:
                 h = c.difference if x[i] < 1 - c.difference else -c.difference
                 probe = x.copy()
                 probe[i] += h
-                jac[:, j] = (residual(_as_action(probe)) - r) / h
+                jac[:, j] = (self._land(checkpoint, _as_action(probe), target) - r) / h
             normal = jac.T @ jac
             normal[np.diag_indices(arm.size)] += c.damping * max(float(normal.diagonal().max()), 1e-12)
             delta = np.linalg.solve(normal, -jac.T @ r)
@@ -183,7 +182,7 @@ class ActionSearch:
                 y = x.copy()
                 y[arm] += scale * delta
                 y = _as_action(y)
-                ry = residual(y)
+                ry = self._land(checkpoint, y, target)
                 if ry @ ry < r @ r:
                     x, r, improved = y, ry, True
                     break
