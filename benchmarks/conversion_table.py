@@ -17,6 +17,7 @@ import json
 import os
 import sys
 import time
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -88,6 +89,7 @@ def measure(
             "method": method,
             "success": sum(e.kept for e in eps),
             "succeeded": sum(e.success_converted for e in eps),
+            "kept_by": dict(Counter(e.replayed_by for e in eps if e.kept)),
             "episodes": len(eps),
             "tracking_error_mean_cm": sum(e.tracking_error_mean_cm for e in eps) / len(eps),
             "tracking_error_max_cm": max(e.tracking_error_max_cm for e in eps),

@@ -228,7 +228,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
     )
     table = Table(title=f"{args.dataset} converted to {args.action_mode} ({args.method})")
     columns = "episode|steps|success recorded|success converted|grip site off cm (mean / max)|goal off (mean / max)"
-    for col in columns.split("|") + ["first step off", "s"]:
+    for col in columns.split("|") + ["first step off", "by", "s"]:
         table.add_column(col, justify="right")
     for e in report.episodes:
         table.add_row(
@@ -239,6 +239,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
             f"{e.tracking_error_mean_cm:.2f} / {e.tracking_error_max_cm:.2f}",
             f"{e.goal_error_mean:.4f} / {e.goal_error_max:.4f}",
             "-" if e.first_step_off is None else str(e.first_step_off),
+            e.replayed_by,
             f"{e.seconds:.1f}",
         )
     Console(width=150).print(table)

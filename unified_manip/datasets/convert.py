@@ -8,7 +8,9 @@ re-executes the recording step by step (:mod:`.steps`), by one of two methods:
   the step lands the grip site where the recording had it after that step, and the
   achieved goal (the object) where the recording's was (:mod:`.search`). Where the
   converted object drifts from the recording, the search trades grip-site error for
-  object error, so it steers back toward the recorded object trajectory.
+  object error, so it steers back toward the recorded object trajectory. An episode the
+  search loses is played again by each initial guess open loop, and the first replay
+  that is kept is kept (the search looks one step ahead only).
 * ``track``: open loop, the recorded action translated into the mode (as the
   ``demonstrations`` run setting plays a scripted policy), or, for a dataset recorded in
   another mode, the grip site driven toward its next recorded position
@@ -24,7 +26,7 @@ recording; the report names the first step that did.
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +37,7 @@ from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
 from unified_manip.datasets.search import METHODS, TOLERANCE_CM, SearchConfig, Target, sites
-from unified_manip.datasets.steps import recorded_targets, stepper
+from unified_manip.datasets.steps import recorded_targets, steppers
 
 
 @dataclass(frozen=True)
@@ -43,7 +45,9 @@ class EpisodeConversion:
     """One converted episode: success as recorded and as converted; after each step, the
     grip site's distance from the recorded trajectory (mean and max, cm) and the achieved
     goal's (mean and max, in the goal's units: m for a position); the first step whose
-    grip site landed beyond the tolerance (``None``: none); and the wall time, s."""
+    grip site landed beyond the tolerance (``None``: none); the wall time, s, of every try;
+    and what replayed it: ``search``, or, where the search lost it, an initial guess played
+    open loop (``translated``, ``tracker``: :func:`.steps.guessers`)."""
 
     episode: int
     steps: int
@@ -55,6 +59,7 @@ class EpisodeConversion:
     goal_error_max: float
     first_step_off: int | None
     seconds: float
+    replayed_by: str
 
     @property
     def kept(self) -> bool:
@@ -137,7 +142,7 @@ def convert(
     target = gym.make(spec.id, **kwargs)
     probe = gym.make(spec.id, **kwargs) if method == "search" else None
     try:
-        step = stepper(task, target, probe, source_mode, method, search)
+        ways = steppers(task, target, probe, source_mode, method, search)
         indices = dataset.episode_indices[:first]
         seeds = [int(m["seed"]) for m in dataset.storage.get_episode_metadata(indices)]
         rows, kept = [], []
@@ -151,7 +156,7 @@ def convert(
         for seed, ep in zip(seeds, bar):
             targets = recorded_targets(reader, ep, task.id)
             try:
-                episode, row = _convert_episode(target, step, ep, seed, targets, tolerance_cm)
+                episode, row = _convert_tries(target, ways, ep, seed, targets, tolerance_cm)
             except ValueError as err:  # a controller that cannot follow a target on this robot
                 raise DatasetError(
                     f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}"
@@ -195,7 +200,21 @@ def _task(env_id: str):
     return get_task(env_id)
 
 
-def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float):
+def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm: float):
+    """The episode converted by the first of ``ways`` that keeps it (else by the first),
+    its row naming that way and the seconds all the tries took."""
+    started = time.perf_counter()
+    first = None
+    for name, step in ways:
+        episode, row = _convert_episode(env, step, ep, seed, targets, tolerance_cm, name)
+        first = first or (episode, row)
+        if row.kept:
+            break
+    episode, row = (episode, row) if row.kept else first
+    return episode, replace(row, seconds=time.perf_counter() - started)
+
+
+def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float, way: str):
     from unified_manip.envs.controllers.translate import arms
 
     started = time.perf_counter()
@@ -234,5 +253,6 @@ def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_
         goal_error_max=float(np.max(goal_errors)),
         first_step_off=first_off,
         seconds=time.perf_counter() - started,
+        replayed_by=way,
     )
     return episode, row

@@ -49,6 +49,11 @@ class SearchConfig:
             per action entry, the search bought the velocity with contorted joint targets
             that lost the episode (docs/datasets.md has the measurements).
         accept_cm: A landing this close (grip site and weighted goal, cm) ends the search.
+        fallback: Whether an episode the search loses is played again by each initial
+            guess open loop, in turn, and the first replay kept is kept. The search is
+            greedy, one step ahead: where the mode lags the recording (absolute joint
+            targets on Door), it buys each step's landing with motion the next steps
+            cannot undo, and the tracker's steadier targets keep what it loses.
     """
 
     iterations: int = 3
@@ -57,6 +62,7 @@ class SearchConfig:
     goal_weight: float = 1.0
     velocity_weight: float = 0.04
     accept_cm: float = 0.5
+    fallback: bool = True
 
     def __post_init__(self) -> None:
         if self.iterations < 0:

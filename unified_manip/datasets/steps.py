@@ -1,5 +1,6 @@
 """Each converted step's action: the initial guesses, and ``convert``'s two methods over
-them (``track`` plays the first guess; ``search`` searches from the best, :mod:`.search`)."""
+them (``track`` plays the first guess; ``search`` searches from the best, :mod:`.search`,
+and falls back to each guess played open loop)."""
 
 from __future__ import annotations
 
@@ -13,67 +14,79 @@ from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, si
 
 #: One converted step: ``(recorded action, where the recording was after it) -> action``.
 Stepper = Callable[[np.ndarray, Target], np.ndarray]
-#: Its initial guesses, the same way.
-Guesser = Callable[[np.ndarray, Target], list[np.ndarray]]
 
 
-def stepper(task, target, probe, source_mode: str, method: str, config: SearchConfig):
-    """What picks each converted step's action: the initial guess itself (``track``), or
-    the search from it (``search``)."""
+def steppers(task, target, probe, source_mode: str, method: str, config: SearchConfig) -> list[tuple[str, Stepper]]:
+    """What picks each converted step's action, named, in the order an episode tries
+    them: ``track``'s first initial guess played as it is; or the search from the best
+    guess (``search``), then, with ``config.fallback``, each initial guess played open loop
+    for an episode the search loses."""
     backend = target.unwrapped.backend
-    guess = guesser(task, backend, source_mode, target.unwrapped.config.action_mode)
+    named = guessers(task, backend, source_mode, target.unwrapped.config.action_mode)
     if method == "track":
-        return _Track(guess)
-    return _Search(ActionSearch(probe, config), backend, guess)
+        return [named[0]]
+    both = _Guesses([guess for _, guess in named])
+    search = [("search", _Search(ActionSearch(probe, config), backend, both))]
+    return search + (named if config.fallback else [])
 
 
-def guesser(task, backend, source_mode: str, mode: str) -> Guesser:
-    """Each step's initial guesses: the recorded action translated into the mode, where
-    the dataset was recorded in ``ee_delta`` or in its scripted policy's own mode (as the
-    ``demonstrations`` run setting plays a scripted policy: Meta-World's ``native``
-    through its policy's translator); and, where it was recorded in a mode of the shared
-    controllers, the tracker's action toward the next recorded grip site with the recorded
-    gripper command (one arm). The first is ``track``'s action."""
+def guessers(task, backend, source_mode: str, mode: str) -> list[tuple[str, Stepper]]:
+    """Each step's initial guesses, named: ``translated``, the recorded action translated
+    into the mode, where the dataset was recorded in ``ee_delta`` or in its scripted
+    policy's own mode (as the ``demonstrations`` run setting plays a scripted policy:
+    Meta-World's ``native`` through its policy's translator); and ``tracker``, where it was
+    recorded in a mode of the shared controllers, the tracker's action toward the next
+    recorded grip site with the recorded gripper command (one arm)."""
     from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker, arms
 
     ee = task.controllers["ee_delta"]
-    guessers = []
+    named: list[tuple[str, Stepper]] = []
     translator = getattr(task.scripted_policy, "translator", None) if source_mode == task.scripted_mode else None
     try:
         if source_mode == "ee_delta" or translator is not None:
             translate = (translator or EEDeltaInMode)(backend, ee)
-            guessers.append(lambda a, target: translate(np.asarray(a, dtype=np.float64)))
+            named.append(("translated", _Open(lambda a, target: translate(np.asarray(a, dtype=np.float64)))))
         if source_mode in shared_modes(task) and len(arms(backend)) == 1:
             tracker = SiteTracker(backend, ee)
             gripper = bool(tracker.rig.has_gripper)
-            guessers.append(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))
+            named.append(("tracker", _Open(lambda a, target: tracker(target.site, float(a[-1]) if gripper else None))))
     except ValueError as err:
         raise DatasetError(f"{task.id}'s action_mode {mode!r} cannot follow a recorded trajectory: {err}") from None
-    if not guessers:
+    if not named:
         raise DatasetError(
             f"the dataset was recorded in {source_mode!r}, the source's own controller, which has no grip-site rig "
             "to read its trajectory from; convert a dataset of a shared-controller mode"
         )
-    return lambda a, target: [guess(a, target) for guess in guessers]
+    return named
 
 
-class _Track:
-    """Open loop: the first initial guess as it is."""
+class _Open:
+    """Open loop: one initial guess, played as it is."""
 
-    def __init__(self, guess: Guesser) -> None:
+    def __init__(self, guess: Callable[[np.ndarray, Target], np.ndarray]) -> None:
         self.guess = guess
 
     def start(self, seed: int) -> None:
         pass
 
     def __call__(self, action: np.ndarray, target: Target) -> np.ndarray:
-        return self.guess(action, target)[0]
+        return self.guess(action, target)
+
+
+class _Guesses:
+    """Every initial guess of a step."""
+
+    def __init__(self, guesses: list[_Open]) -> None:
+        self.guesses = guesses
+
+    def __call__(self, action: np.ndarray, target: Target) -> list[np.ndarray]:
+        return [guess(action, target) for guess in self.guesses]
 
 
 class _Search:
     """Each step's action searched from the converted env's checkpoint (:mod:`.search`)."""
 
-    def __init__(self, search: ActionSearch, backend, guess: Guesser) -> None:
+    def __init__(self, search: ActionSearch, backend, guess: _Guesses) -> None:
         self.search, self.backend, self.guess = search, backend, guess
 
     def start(self, seed: int) -> None:
