@@ -8,9 +8,12 @@ re-executes the recording step by step (:mod:`.steps`), by one of two methods:
   the step lands the grip site where the recording had it after that step, and the
   achieved goal (the object) where the recording's was (:mod:`.search`). Where the
   converted object drifts from the recording, the search trades grip-site error for
-  object error, so it steers back toward the recorded object trajectory. An episode the
-  search loses is played again by each initial guess open loop, and the first replay
-  that is kept is kept (the search looks one step ahead only).
+  object error, so it steers back toward the recorded object trajectory. Where the new
+  mode is slower than the recording's, the search spends up to
+  :attr:`~.search.SearchConfig.catch_up` extra steps on a recorded step while the grip
+  site lags it: the episode follows the recorded path at the mode's own pace. An episode
+  the search loses is played again by each initial guess open loop, and the first
+  replay that is kept is kept (the search looks one step ahead only).
 * ``track``: open loop, the recorded action translated into the mode (as the
   ``demonstrations`` run setting plays a scripted policy), or, for a dataset recorded in
   another mode, the grip site driven toward its next recorded position
@@ -156,7 +159,7 @@ def convert(
         for seed, ep in zip(seeds, bar):
             targets = recorded_targets(reader, ep, task.id)
             try:
-                episode, row = _convert_tries(target, ways, ep, seed, targets, tolerance_cm)
+                episode, row = _convert_tries(target, ways, ep, seed, targets, tolerance_cm, search)
             except ValueError as err:  # a controller that cannot follow a target on this robot
                 raise DatasetError(
                     f"{task.id}'s action_mode {action_mode!r} cannot track a trajectory: {err}"
@@ -200,13 +203,14 @@ def _task(env_id: str):
     return get_task(env_id)
 
 
-def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm: float):
+def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm: float, config: SearchConfig):
     """The episode converted by the first of ``ways`` that keeps it (else by the first),
     its row naming that way and the seconds all the tries took."""
     started = time.perf_counter()
     first = None
     for name, step in ways:
-        episode, row = _convert_episode(env, step, ep, seed, targets, tolerance_cm, name)
+        extra = config.catch_up if name == "search" else 0  # an open-loop delta cannot be repeated
+        episode, row = _convert_episode(env, step, ep, seed, targets, tolerance_cm, name, extra, config.catch_up_cm)
         first = first or (episode, row)
         if row.kept:
             break
@@ -214,7 +218,9 @@ def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm
     return episode, replace(row, seconds=time.perf_counter() - started)
 
 
-def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_cm: float, way: str):
+def _convert_episode(
+    env, step, ep, seed: int, targets: list[Target], tolerance_cm: float, way: str, catch_up: int, catch_up_cm: float
+):
     from unified_manip.envs.controllers.translate import arms
 
     started = time.perf_counter()
@@ -235,10 +241,14 @@ def _convert_episode(env, step, ep, seed: int, targets: list[Target], tolerance_
         if episode.done:
             break
         target = targets[t + 1]
-        action = step(recorded, target)
-        obs, reward, terminated, truncated, info = env.step(action)
-        episode.add(env, action, obs, reward, terminated, truncated, info)
-        errors.append(float(np.max(np.linalg.norm((sites(rigs) - target.site).reshape(-1, 3), axis=1))))
+        for extra in range(catch_up + 1):  # more steps toward the same target while it lags
+            action = step(recorded, target)
+            obs, reward, terminated, truncated, info = env.step(action)
+            episode.add(env, action, obs, reward, terminated, truncated, info)
+            lag = float(np.max(np.linalg.norm((sites(rigs) - target.site).reshape(-1, 3), axis=1)))
+            if episode.done or lag <= catch_up_cm / 100:
+                break
+        errors.append(lag)
         goal_errors.append(float(np.linalg.norm(obs["achieved_goal"].astype(np.float64) - target.goal)))
         if first_off is None and errors[-1] > tolerance_cm / 100:
             first_off = t

@@ -54,6 +54,12 @@ class SearchConfig:
             greedy, one step ahead: where the mode lags the recording (absolute joint
             targets on Door), it buys each step's landing with motion the next steps
             cannot undo, and the tracker's steadier targets keep what it loses.
+        catch_up: Extra steps the search may spend on one recorded step while the grip
+            site lags its recorded position by more than ``catch_up_cm``: the converted
+            episode follows the recorded path at the pace the mode allows, where the
+            mode is slower than the recording's (a capped joint step; a servoed arm
+            after Meta-World's mocap hand). ``0``: one step per recorded step.
+        catch_up_cm: The lag (cm) beyond which a step is caught up.
     """
 
     iterations: int = 3
@@ -63,14 +69,18 @@ class SearchConfig:
     velocity_weight: float = 0.04
     accept_cm: float = 0.5
     fallback: bool = True
+    catch_up: int = 4
+    catch_up_cm: float = 1.0
 
     def __post_init__(self) -> None:
         if self.iterations < 0:
             raise ValueError(f"SearchConfig.iterations must be >= 0, got {self.iterations}")
-        for name in ("difference", "damping", "goal_weight", "accept_cm"):
+        for name in ("difference", "damping", "goal_weight", "accept_cm", "catch_up_cm"):
             value = getattr(self, name)
             if not value > 0:
                 raise ValueError(f"SearchConfig.{name} must be > 0, got {value}")
+        if self.catch_up < 0:
+            raise ValueError(f"SearchConfig.catch_up must be >= 0, got {self.catch_up}")
         if not self.velocity_weight >= 0:
             raise ValueError(f"SearchConfig.velocity_weight must be >= 0, got {self.velocity_weight}")
 
