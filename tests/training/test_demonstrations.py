@@ -343,6 +343,28 @@ def test_the_shipped_recipe_leaves_demonstrations_out_of_robosuites_own_controll
     assert not any("demonstration episodes" in line for line in logs), logs
 
 
+@pytest.mark.metaworld
+def test_meta_worlds_scripted_policy_demonstrates_in_its_own_native_mode():
+    """Meta-World's policies emit native actions: native is demonstrable (with the shared
+    modes), and two prefilled native episodes of Reach are whole and end in success."""
+    from sb3_contrib import TQC
+    from stable_baselines3 import HerReplayBuffer
+
+    from unified_manip.training.demonstrations import demonstrable_modes
+    from unified_manip.training.run_envs import make_vec_env
+
+    task_id = "UnifiedManip/MetaWorldReach-v0"
+    assert demonstrable_modes(task_id) == list(unified_manip.TASKS[task_id].action_modes)
+    check(task_id, "native", True, 2)
+    venv = make_vec_env(task_id, {"action_mode": "native", "reward_type": "sparse"}, 1, 0, None, "dummy")
+    model = TQC("MultiInputPolicy", venv, buffer_size=2000, replay_buffer_class=HerReplayBuffer, seed=0)
+    done = prefill(model, venv, task_id, "native", episodes=2)
+    horizon = gym.spec(task_id).max_episode_steps
+    assert done == {"episodes": 2, "transitions": 2 * horizon, "success": 1.0}
+    assert np.all(model.replay_buffer.ep_length[: 2 * horizon] == horizon)
+    venv.close()
+
+
 @pytest.mark.parametrize(
     "algo,task_id,mode,episodes,message",
     [

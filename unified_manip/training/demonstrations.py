@@ -53,16 +53,19 @@ def check(task_id: str, action_mode: str, off_policy: bool, episodes: int | str)
     if action_mode not in modes:
         raise DemonstrationError(
             f"demonstrations: {task_id}'s action_mode {action_mode!r} is the source's own controller, which the "
-            f"scripted ee_delta policy cannot drive; use one of {', '.join(modes)}"
+            f"scripted {spec.scripted_mode} policy cannot drive; use one of {', '.join(modes)}"
         )
 
 
 def demonstrable_modes(task_id: str) -> list[str]:
     """The action modes of ``task_id`` that its scripted policy can play: those of the
-    shared controllers (not a source's own ``native``)."""
+    shared controllers, and the one it emits (Meta-World's ``native``), not another of a
+    source's own."""
     from unified_manip.envs.registry import get_task
 
-    return [mode for mode, config in get_task(task_id).controllers.items() if config.controller is not None]
+    spec = get_task(task_id)
+    own = spec.scripted_mode
+    return [mode for mode, config in spec.controllers.items() if config.controller is not None or mode == own]
 
 
 def policy(task_id: str, action_mode: str, env):
