@@ -12,8 +12,9 @@ re-executes the recording step by step (:mod:`.steps`), by one of two methods:
   mode is slower than the recording's, the search spends up to
   :attr:`~.search.SearchConfig.catch_up` extra steps on a recorded step while the grip
   site lags it: the episode follows the recorded path at the mode's own pace. An episode
-  the search loses is played again by each initial guess open loop, and the first
-  replay that is kept is kept (the search looks one step ahead only).
+  the search loses is tried again by the search in lockstep with the recording, then by
+  each initial guess open loop, and the first replay that is kept is kept
+  (:func:`.steps.steppers`).
 * ``track``: open loop, the recorded action translated into the mode (as the
   ``demonstrations`` run setting plays a scripted policy), or, for a dataset recorded in
   another mode, the grip site driven toward its next recorded position
@@ -40,7 +41,7 @@ from unified_manip.datasets.episodes import Episode
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
 from unified_manip.datasets.search import METHODS, TOLERANCE_CM, SearchConfig, Target, sites
-from unified_manip.datasets.steps import recorded_targets, steppers
+from unified_manip.datasets.steps import Way, recorded_targets, steppers
 
 
 @dataclass(frozen=True)
@@ -49,8 +50,9 @@ class EpisodeConversion:
     grip site's distance from the recorded trajectory (mean and max, cm) and the achieved
     goal's (mean and max, in the goal's units: m for a position); the first step whose
     grip site landed beyond the tolerance (``None``: none); the wall time, s, of every try;
-    and what replayed it: ``search``, or, where the search lost it, an initial guess played
-    open loop (``translated``, ``tracker``: :func:`.steps.guessers`)."""
+    and what replayed it: ``search``, or, where the search lost it, the search in lockstep
+    (``search, lockstep``) or an initial guess played open loop (``translated``,
+    ``tracker``: :func:`.steps.guessers`)."""
 
     episode: int
     steps: int
@@ -208,9 +210,8 @@ def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm
     its row naming that way and the seconds all the tries took."""
     started = time.perf_counter()
     first = None
-    for name, step in ways:
-        extra = config.catch_up if name == "search" else 0  # an open-loop delta cannot be repeated
-        episode, row = _convert_episode(env, step, ep, seed, targets, tolerance_cm, name, extra, config.catch_up_cm)
+    for way in ways:
+        episode, row = _convert_episode(env, way, ep, seed, targets, tolerance_cm, config.catch_up_cm)
         first = first or (episode, row)
         if row.kept:
             break
@@ -218,9 +219,7 @@ def _convert_tries(env, ways, ep, seed: int, targets: list[Target], tolerance_cm
     return episode, replace(row, seconds=time.perf_counter() - started)
 
 
-def _convert_episode(
-    env, step, ep, seed: int, targets: list[Target], tolerance_cm: float, way: str, catch_up: int, catch_up_cm: float
-):
+def _convert_episode(env, way: Way, ep, seed: int, targets: list[Target], tolerance_cm: float, catch_up_cm: float):
     from unified_manip.envs.controllers.translate import arms
 
     started = time.perf_counter()
@@ -232,6 +231,7 @@ def _convert_episode(
         backend.set_state(initial)
     if not np.array_equal(obs["desired_goal"], ep.observations["desired_goal"][0]):
         raise DatasetError(f"episode {ep.id}: reset with seed {seed} gives another goal than the recording's")
+    step = way.step
     step.start(seed)
     episode = Episode(seed)
     episode.start(env, obs, info)
@@ -241,7 +241,7 @@ def _convert_episode(
         if episode.done:
             break
         target = targets[t + 1]
-        for extra in range(catch_up + 1):  # more steps toward the same target while it lags
+        for extra in range(way.catch_up + 1):  # more steps toward the same target while it lags
             action = step(recorded, target)
             obs, reward, terminated, truncated, info = env.step(action)
             episode.add(env, action, obs, reward, terminated, truncated, info)
@@ -263,6 +263,6 @@ def _convert_episode(
         goal_error_max=float(np.max(goal_errors)),
         first_step_off=first_off,
         seconds=time.perf_counter() - started,
-        replayed_by=way,
+        replayed_by=way.name,
     )
     return episode, row

@@ -4,6 +4,7 @@ and falls back to each guess played open loop)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -16,18 +17,32 @@ from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, si
 Stepper = Callable[[np.ndarray, Target], np.ndarray]
 
 
-def steppers(task, target, probe, source_mode: str, method: str, config: SearchConfig) -> list[tuple[str, Stepper]]:
-    """What picks each converted step's action, named, in the order an episode tries
-    them: ``track``'s first initial guess played as it is; or the search from the best
-    guess (``search``), then, with ``config.fallback``, each initial guess played open loop
-    for an episode the search loses."""
+@dataclass(frozen=True)
+class Way:
+    """One way to re-execute an episode: its name (an episode's ``replayed_by``), what
+    picks each step's action, and the extra steps it may spend catching up on one
+    recorded step (:attr:`.search.SearchConfig.catch_up`)."""
+
+    name: str
+    step: Stepper
+    catch_up: int = 0
+
+
+def steppers(task, target, probe, source_mode: str, method: str, config: SearchConfig) -> list[Way]:
+    """The ways an episode is tried, in turn, until one keeps it: ``track``'s first
+    initial guess played as it is; or the search from the best guess catching up
+    (``search``), then, for an episode it loses, the search one step per recorded step
+    (``search, lockstep``: catching up can run out the time limit before the recorded
+    path does) and, with ``config.fallback``, each initial guess played open loop."""
     backend = target.unwrapped.backend
     named = guessers(task, backend, source_mode, target.unwrapped.config.action_mode)
     if method == "track":
-        return [named[0]]
-    both = _Guesses([guess for _, guess in named])
-    search = [("search", _Search(ActionSearch(probe, config), backend, both))]
-    return search + (named if config.fallback else [])
+        return [Way(*named[0])]
+    search = _Search(ActionSearch(probe, config), backend, _Guesses([guess for _, guess in named]))
+    ways = [Way("search", search, config.catch_up)]
+    if config.catch_up and config.fallback:
+        ways.append(Way("search, lockstep", search))
+    return ways + ([Way(*n) for n in named] if config.fallback else [])
 
 
 def guessers(task, backend, source_mode: str, mode: str) -> list[tuple[str, Stepper]]:
