@@ -382,3 +382,16 @@ def test_compile_loss_is_for_tqc_only_and_compiles_while_the_run_trains():
         SpeedupError, match=r"compile_loss compiles TQC's quantile Huber loss; this run's algorithm is SAC"
     ):
         check("SAC", True)
+
+
+@pytest.mark.metaworld  # Meta-World pins MuJoCo 3.3.0: only CI's second leg can load it
+def test_the_mt10_pilot_grid_runs_four_modes_on_two_tasks_with_demonstrations():
+    """The MT10 study's budget pilot: seed 0 of drawer-open and push in native, ee_delta,
+    joint_delta and joint_target_delta, to 100k steps, each with 100 live scripted
+    demonstrations (native among them: Meta-World's policies emit it)."""
+    grid = load_grid(Path(__file__).parents[2] / "baselines" / "grids" / "studies" / "action_spaces_mt10_pilot.yaml")
+    cells = {(r.task.split("/")[-1], r.action_mode) for r in grid.runs}
+    modes = ("native", "ee_delta", "joint_delta", "joint_target_delta")
+    assert cells == {(t, m) for t in ("MetaWorldDrawerOpen-v0", "MetaWorldPush-v0") for m in modes}
+    assert {(r.seed, r.steps) for r in grid.runs} == {(0, 100_000)}
+    assert all("demonstrations=100" in r.overrides for r in grid.runs)
