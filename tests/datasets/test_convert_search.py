@@ -71,18 +71,40 @@ def test_a_lagging_mode_catches_up_on_the_recorded_path(pick_and_place):
 
 @pytest.mark.slow  # which steps the search loses turns on rounding: MuJoCo 3.3.0 restores to 1e-9 only
 def test_an_episode_the_search_loses_is_kept_open_loop(tmp_path):
-    """Arm4Push-v0 into joint_target_delta, seeds 0-3: the greedy search loses episodes
-    0 and 2 (the puck goes astray); played open loop, the translated action keeps
-    episode 0 and the tracker episode 2. The written dataset, made of both, replays
-    exactly from its actions."""
-    source = _scripted("UnifiedManip/Arm4Push-v0", 4, tmp_path / "push-ee-v0")
-    alone = convert(source, "joint_target_delta", None, progress=False, search=SearchConfig(fallback=False))
+    """Arm4Push-v0 into joint_target_delta, seeds 0-2: the search loses episodes 0 and 2,
+    catching up and in lockstep (the puck goes astray); played open loop, the translated
+    action keeps episode 0 and the tracker episode 2, and each row names what replayed
+    it. The written dataset, made of all three, replays exactly from its actions."""
+    source = _scripted("UnifiedManip/Arm4Push-v0", 3, tmp_path / "push-ee-v0")
     report = convert(source, "joint_target_delta", tmp_path / "push-target-v0", progress=False)
-    assert [e.kept for e in alone.episodes] == [False, True, False, True]
-    assert [e.replayed_by for e in alone.episodes] == ["search"] * 4
-    assert [e.kept for e in report.episodes] == [True] * 4
-    assert [e.replayed_by for e in report.episodes] == ["translated", "search", "tracker", "search"]
+    assert [e.kept for e in report.episodes] == [True] * 3
+    assert [e.replayed_by for e in report.episodes] == ["translated", "search", "tracker"]
     assert replay(tmp_path / "push-target-v0", from_actions=True, progress=False).exact
+
+
+@pytest.mark.parametrize(
+    "method, config, names",
+    [
+        ("search", SearchConfig(), ["search", "search, lockstep", "translated", "tracker"]),
+        ("search", SearchConfig(catch_up=0), ["search", "translated", "tracker"]),
+        ("search", SearchConfig(fallback=False), ["search"]),
+        ("track", SearchConfig(), ["translated"]),
+    ],
+)
+def test_the_ways_an_episode_is_tried_in_turn(method, config, names):
+    """An ee_delta recording of the arm: the search (catching up), then in lockstep, then
+    each initial guess open loop; without the fallback, the search only; ``track``, the
+    translated action only."""
+    import gymnasium as gym
+
+    from unified_manip.datasets.steps import steppers
+    from unified_manip.envs.registry import get_task
+
+    task_id = "UnifiedManip/Arm4Push-v0"
+    target, probe = (gym.make(task_id, action_mode="joint_target_delta") for _ in range(2))
+    ways = steppers(get_task(task_id), target, probe, "ee_delta", method, config)
+    assert [w.name for w in ways] == names
+    assert [w.catch_up for w in ways] == [config.catch_up if n == "search" else 0 for n in names]
 
 
 @pytest.mark.robosuite
