@@ -158,22 +158,30 @@ def _reason(error: str, task_id: str, mode: str) -> str:
     return reason.removeprefix("is ")
 
 
+#: What keeps an episode, in the order the tries run (an episode's ``replayed_by``).
+WAYS = ("search", "search, lockstep", "translated", "tracker")
+
+
 def markdown(results: dict[str, dict[str, Any]]) -> str:
-    """One row per task and mode: converted successes, mean and worst tracking error, the
-    live translation's successes and the wall time (conversion and live translation); a
-    mode that cannot be converted into says why."""
+    """One row per task and mode: converted successes, what kept them (the search, or a
+    retry: :func:`unified_manip.datasets.steps.steppers`), mean and worst tracking error,
+    the live translation's successes and the wall time (conversion and live translation);
+    a mode that cannot be converted into says why."""
     lines = [
-        "| task | mode | converted success | tracking error, mean cm | worst step, cm | translated live | wall time |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| task | mode | converted success | kept by | tracking error, mean cm | worst step, cm | translated live "
+        "| wall time |",
+        "|---|---|---:|---|---:|---:|---:|---:|",
     ]
     for task_id, row in results.items():
         for mode, m in row["modes"].items():
             if "error" in m:
-                lines.append(f"| {task_id} | {mode} | — {_reason(m['error'], task_id, mode)} | | | — | |")
+                lines.append(f"| {task_id} | {mode} | — {_reason(m['error'], task_id, mode)} | | | | — | |")
                 continue
             share = m["success"] / m["episodes"]
+            kept_by = m.get("kept_by", {})  # the tries in their order (older tables have none)
+            by = "; ".join(f"{way} {kept_by[way]}" for way in WAYS if way in kept_by) or "–"
             lines.append(
-                f"| {task_id} | {mode} | {m['success']}/{m['episodes']} ({share:.2f}) | "
+                f"| {task_id} | {mode} | {m['success']}/{m['episodes']} ({share:.2f}) | {by} | "
                 f"{m['tracking_error_mean_cm']:.2f} | {m['tracking_error_max_cm']:.2f} | "
                 f"{'–' if m['translated_success'] is None else m['translated_success']}/{m['episodes']} | "
                 f"{m['seconds']:.0f} s |"
