@@ -80,8 +80,9 @@ def add_commands(sub) -> None:
         "--method",
         choices=METHODS,
         default=METHODS[0],
-        help="search each step's action for the recorded next state (default), or play the recorded "
-        "actions translated into the mode, open loop",
+        help="search each step's action for the recorded next state, catching up where the mode lags, and "
+        "retry a lost episode in lockstep and open loop (default); or play the recorded actions translated "
+        "into the mode, open loop",
     )
     p.add_argument(
         "--tolerance",
