@@ -222,15 +222,15 @@ def test_collect_only_successful_drops_the_failed_episodes_and_counts_them(tmp_p
 
 @_OLD_MUJOCO
 def test_convert_keeps_the_episodes_that_fail_to_convert_only_with_keep_failed(tmp_path, capsys):
-    """Arm4Push's scripted episodes of seeds 5 and 6, converted to ``joint_delta``: seed 5's
-    push still succeeds; seed 6's cube ends 6.5 cm from where the recording left it, short
-    of the goal, though the grip site stays within 1.6 cm of the recording."""
+    """Arm4Push's scripted episodes of seeds 5 and 6, converted to ``joint_torque``: seed 5's
+    push still succeeds; seed 6's cube ends short of the goal, though the grip site stays
+    within 1 cm of the recording, and no retry keeps it."""
     source = tmp_path / "push-v0"
     collect = ["collect", "--env", "UnifiedManip/Arm4Push-v0", "--episodes", "2", "--seed", "5"]
     assert main(collect + ["--out", str(source), "--no-progress"]) == 0
     capsys.readouterr()
     assert episodes(source) == [(5, True), (6, True)]
-    convert = ["convert", str(source), "--action-mode", "joint_delta", "--no-progress"]
+    convert = ["convert", str(source), "--action-mode", "joint_torque", "--no-progress"]
 
     code, out, err = run_cli(convert + ["--out", str(tmp_path / "without-v0")], capsys)
     assert (code, err) == (0, "")
