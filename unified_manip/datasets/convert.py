@@ -241,7 +241,7 @@ def _convert_episode(env, way: Way, ep, seed: int, targets: list[Target], tolera
         if episode.done:
             break
         target = targets[t + 1]
-        for extra in range(way.catch_up + 1):  # more steps toward the same target while it lags
+        for _ in range(way.catch_up + 1):  # more steps toward the same target while it lags
             action = step(recorded, target)
             obs, reward, terminated, truncated, info = env.step(action)
             episode.add(env, action, obs, reward, terminated, truncated, info)
