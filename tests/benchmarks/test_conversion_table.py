@@ -31,7 +31,7 @@ def test_the_arm_converts_every_episode_and_fetch_refuses_its_own_controller(tmp
     refused = markdown(results).splitlines()[-1]
     assert refused == (
         "| UnifiedManip/FetchReach-v0 | native | — the source's own controller, which cannot track a "
-        "grip-site trajectory | | | — | |"
+        "grip-site trajectory | | | | — | |"
     )
 
 
