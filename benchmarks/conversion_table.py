@@ -4,8 +4,9 @@ succeed when ``convert`` re-executes them in each action mode, with the tracking
 Run it as ``python -m benchmarks.conversion_table --env ID[,ID...] --episodes 50
 --out DIR``. It records ``--episodes`` successful scripted episodes per task into
 ``DIR/<task>-<mode>-v0``, in the mode the scripted policy emits (``ee_delta``, or
-Meta-World's ``native``). It converts them to every mode by ``--method`` (``search``, the
-default, or ``track``: open loop), measuring only, with no datasets written, and prints a
+Meta-World's ``native``), or in ``--source``'s mode, the policy translated live. It
+converts them to every mode by ``--method`` (``search``, the default, or ``track``: open
+loop), measuring only, with no datasets written, and prints a
 Markdown table (and ``--json``'s document). For comparison it also plays the scripted
 policy live in each mode from the same reset seeds, its actions translated one by one,
 as a run's ``demonstrations`` do.
@@ -41,6 +42,7 @@ def measure(
     on_mode=None,
     progress: bool = False,
     method: str = "search",
+    source: str | None = None,
 ) -> dict[str, Any]:
     """Record ``episodes`` successful scripted episodes of ``task_id`` in the mode its
     scripted policy emits (``ee_delta``; Meta-World's ``native``) and convert them to
@@ -48,11 +50,13 @@ def measure(
     ``translated=False`` leaves out the live per-action translation (it doubles the time);
     ``first`` converts only the first episodes; ``on_mode(row)`` is called after each mode;
     ``progress`` shows the recording's and each conversion's progress bars; ``method`` is
-    ``convert``'s. A mode's ``success`` counts the episodes kept (a success within the
-    tolerance), ``succeeded`` those that succeed at all."""
+    ``convert``'s; ``source`` records in that mode instead, the scripted actions translated
+    live (Meta-World's servoed modes cannot follow its ``native`` recordings). A mode's
+    ``success`` counts the episodes kept (a success within the tolerance), ``succeeded``
+    those that succeed at all."""
     spec = get_task(task_id)
     # The version is in the name: Arm4Push-v0 and -v1 share a spec name, not their episodes.
-    source = spec.scripted_mode
+    source = source or spec.scripted_mode
     path = Path(out) / f"{task_id.split('/')[-1]}-{source}-v0"
     start = time.perf_counter()
     if not path.exists():  # a recording of an earlier, interrupted measurement is reused
@@ -73,7 +77,8 @@ def measure(
         raise DatasetError(
             f"{path} holds episodes of {recorded['env_id']}, not of {task_id}; remove it or pick another --out"
         )
-    row: dict[str, Any] = {"recorded": recorded, "collect_s": time.perf_counter() - start, "modes": {}}
+    elapsed = time.perf_counter() - start
+    row: dict[str, Any] = {"recorded": recorded, "source": source, "collect_s": elapsed, "modes": {}}
     for mode in modes or spec.action_modes:
         start = time.perf_counter()
         try:
@@ -141,7 +146,10 @@ def overview(results: dict[str, dict[str, Any]]) -> str:
         for mode in modes:
             m = row["modes"].get(mode)
             cells.append("" if m is None else "—" if "error" in m else _share(m))
-        lines.append(f"| {task_id.split('/')[-1]} | {kept} of {rec['episodes_played']} | " + " | ".join(cells) + " |")
+        name = task_id.split("/")[-1]
+        if row.get("source", get_task(task_id).scripted_mode) != get_task(task_id).scripted_mode:
+            name += f" (in `{row['source']}`)"
+        lines.append(f"| {name} | {kept} of {rec['episodes_played']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -197,6 +205,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--modes", help="comma-separated action modes (default: every mode of each task)")
     parser.add_argument("--no-translated", action="store_true", help="leave out the live per-action translation")
     parser.add_argument("--first", type=int, help="convert only the first recorded episodes")
+    parser.add_argument(
+        "--source", help="record in this mode, the scripted actions translated live (default: the mode they are in)"
+    )
     parser.add_argument("--method", choices=("search", "track"), default="search", help="convert's method")
     parser.add_argument("--json", help="also write the results here (after every mode)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bars or per-mode lines on stderr")
@@ -212,7 +223,7 @@ def main(argv: list[str] | None = None) -> None:
             if spec.scripted_policy is None:
                 scripted_ids = ", ".join(t for t in TASKS if get_task(t).scripted_policy is not None)
                 raise ValueError(f"{task_id} has no scripted policy to record; expected one of {scripted_ids}")
-            for mode in modes or []:
+            for mode in (modes or []) + ([args.source] if args.source else []):
                 if mode not in spec.action_modes:
                     raise ValueError(
                         f"{task_id} has no action_mode {mode!r}; expected one of {', '.join(spec.action_modes)}"
@@ -253,6 +264,7 @@ def main(argv: list[str] | None = None) -> None:
                 on_mode=save,
                 progress=not args.no_progress,
                 method=args.method,
+                source=args.source,
             )
         except ValueError as err:  # no scripted policy, or a recording of another task
             parser.error(str(err))

@@ -54,6 +54,19 @@ def test_each_version_of_a_task_is_recorded_on_its_own(tmp_path):
         measure("UnifiedManip/Arm4Reach-v0", 1, tmp_path, modes=["ee_target_delta"], translated=False)
 
 
+def test_a_recording_translated_live_into_another_mode_is_converted_from_that_mode(tmp_path):
+    """``source``: Meta-World's servoed modes cannot follow its ``native`` recordings, so its
+    rows are recorded in a servoed mode, the scripted actions translated live."""
+    row = measure("UnifiedManip/Arm4Reach-v0", 2, tmp_path, modes=["joint_delta"], source="ee_target_delta")
+    assert row["source"] == row["recorded"]["env_kwargs"]["action_mode"] == "ee_target_delta"
+    assert (tmp_path / "Arm4Reach-v0-ee_target_delta-v0").is_dir()
+    assert not (tmp_path / "Arm4Reach-v0-ee_delta-v0").exists()
+    assert (row["modes"]["joint_delta"]["success"], row["modes"]["joint_delta"]["episodes"]) == (2, 2)
+    assert overview({"UnifiedManip/Arm4Reach-v0": row}).splitlines()[-1] == (
+        "| Arm4Reach-v0 (in `ee_target_delta`) | 2 of 2 | 1.00 (1.00) |"
+    )
+
+
 @pytest.mark.parametrize(
     "args, message",
     [
@@ -67,6 +80,10 @@ def test_each_version_of_a_task_is_recorded_on_its_own(tmp_path):
             "UnifiedManip/Arm4Reach-v0 has no action_mode 'ee_pose'; expected one of joint_torque",
         ),
         (["--env", "UnifiedManip/HandReach-v0"], "UnifiedManip/HandReach-v0 has no scripted policy"),
+        (
+            ["--source", "ee_pose"],
+            "UnifiedManip/Arm4Reach-v0 has no action_mode 'ee_pose'; expected one of joint_torque",
+        ),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, args, message):
