@@ -95,6 +95,9 @@ def measure(
             "success": sum(e.kept for e in eps),
             "succeeded": sum(e.success_converted for e in eps),
             "kept_by": dict(Counter(e.replayed_by for e in eps if e.kept)),
+            # Why the others were lost: the first step off the path, or no success on it.
+            "lost_off_path_at": sorted(e.first_step_off for e in eps if e.first_step_off is not None),
+            "lost_on_path": sum(not e.success_converted and e.first_step_off is None for e in eps),
             "episodes": len(eps),
             "tracking_error_mean_cm": sum(e.tracking_error_mean_cm for e in eps) / len(eps),
             "tracking_error_max_cm": max(e.tracking_error_max_cm for e in eps),

@@ -67,6 +67,14 @@ def test_a_recording_translated_live_into_another_mode_is_converted_from_that_mo
     )
 
 
+def test_each_mode_says_why_it_lost_the_episodes_it_did_not_keep(tmp_path):
+    """Arm4Push's seed 6 in ``joint_torque``: the grip site stays on the recorded path, but
+    the cube ends short of the goal (as ``convert --keep-failed``'s test shows)."""
+    row = measure("UnifiedManip/Arm4Push-v0", 2, tmp_path, seed=5, modes=["joint_torque"], translated=False)
+    cell = row["modes"]["joint_torque"]
+    assert (cell["success"], cell["lost_on_path"], cell["lost_off_path_at"]) == (1, 1, [])
+
+
 @pytest.mark.parametrize(
     "args, message",
     [
