@@ -21,7 +21,12 @@ for task in "$@"; do
   for mode in $MODES; do
     out=$ROOT/$name/$mode-v0
     [ -d "$out" ] || [ -f $ROOT/$name/$mode.json ] && continue
-    $UM convert $src --action-mode $mode --out $out --no-progress --json $ROOT/$name/$mode.json \
-      2> $ROOT/$name/$mode.err || echo "$task $mode: $(tail -1 $ROOT/$name/$mode.err)"
+    # The per-episode table goes to MODE.out; the last line ("wrote ...") is shown.
+    if $UM convert $src --action-mode $mode --out $out --no-progress --json $ROOT/$name/$mode.json \
+      > $ROOT/$name/$mode.out 2> $ROOT/$name/$mode.err; then
+      tail -n 1 $ROOT/$name/$mode.out
+    else
+      echo "$task $mode: $(tail -1 $ROOT/$name/$mode.err)"
+    fi
   done
 done
