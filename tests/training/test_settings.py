@@ -343,9 +343,14 @@ def test_every_committed_config_yaml_reads_its_run_settings():
     # The committed studies' demonstration levers, as their grids set them.
     # Episode counts of the scripted policy, or (the bc pilot) the dataset each mode cloned.
     demonstrations = {r.demos.demonstrations for r in runs}
-    # issue 39's cloning study: one dataset per mode at each size (25, 100, 400 episodes)
-    cloning = {d for d in demonstrations if re.fullmatch(r"data/bc/n(25|100|400)/\{task\}/\{action_mode\}-v0", str(d))}
-    assert "data/bc/n400/{task}/{action_mode}-v0" in cloning
+    # issue 39's cloning study: one dataset per mode at each size (25, 100, 400 episodes),
+    # converted open loop (data/bc/nN) or by the search (data/bc/search/nN)
+    cloning = {
+        d
+        for d in demonstrations
+        if re.fullmatch(r"data/bc/(search/)?n(25|100|400)/\{task\}/\{action_mode\}-v0", str(d))
+    }
+    assert {"data/bc/n400/{task}/{action_mode}-v0", "data/bc/search/n25/{task}/{action_mode}-v0"} <= cloning
     assert demonstrations - cloning == {
         0,
         100,
