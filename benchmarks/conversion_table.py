@@ -149,8 +149,8 @@ def overview(results: dict[str, dict[str, Any]]) -> str:
         for mode in modes:
             m = row["modes"].get(mode)
             cells.append("" if m is None else "—" if "error" in m else _share(m))
-        name = task_id.split("/")[-1]
-        if row.get("source", get_task(task_id).scripted_mode) != get_task(task_id).scripted_mode:
+        name, scripted_mode = task_id.split("/")[-1], get_task(task_id).scripted_mode
+        if row.get("source", scripted_mode) != scripted_mode:  # older tables have no source
             name += f" (in `{row['source']}`)"
         lines.append(f"| {name} | {kept} of {rec['episodes_played']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
