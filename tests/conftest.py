@@ -31,7 +31,7 @@ import unified_manip  # noqa: E402
 #: golden_hashes.json keeps every ID's hashes. One Meta-World ID's contracts took about 25 s
 #: in its 5 joint and native modes; its two end-effector modes add about 15 s.
 SAMPLED_FAMILIES: dict[str, tuple[str, ...]] = {
-    "metaworld": ("UnifiedManip/MetaWorldPickPlace-v0",),  # an object carried to a point
+    "metaworld": ("UnifiedManip/MetaWorldPickPlace-v1",),  # an object carried to a point (the newest version)
 }
 ALL_IDS = [
     tid
@@ -80,7 +80,7 @@ HER_IDS = [
     "UnifiedManip/Lift-v0",
     "UnifiedManip/AdroitRelocate-v0",
     "UnifiedManip/FrankaKitchen-v0",
-    "UnifiedManip/MetaWorldPickPlace-v0",
+    "UnifiedManip/MetaWorldPickPlace-v1",
     "UnifiedManip/ValveTurn-v0",
 ]
 

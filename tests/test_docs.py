@@ -59,12 +59,17 @@ def site(tmp_path_factory) -> Path:
 @pytest.mark.slow
 def test_every_registered_task_has_a_page_with_its_animation_sections_and_modes(site):
     index = (site / "tasks" / "index.html").read_text()
+    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
+    import taskpages
+
+    animations = taskpages.animations(ROOT / "docs")
     for task_id, spec in unified_manip.TASKS.items():
         name = task_id.split("/", 1)[1]
+        picture = taskpages.picture_name(task_id, animations[task_id])  # its own, or its previous version's
         page = (site / "tasks" / name / "index.html").read_text()
-        assert f"images/tasks/{name}.gif" in page, name
-        assert (site / "images" / "tasks" / f"{name}.gif").is_file(), name
-        assert f'src="../images/tasks/{name}.png"' in index, name  # the index's thumbnail
+        assert f"images/tasks/{picture}.gif" in page, name
+        assert (site / "images" / "tasks" / f"{picture}.gif").is_file(), name
+        assert f'src="../images/tasks/{picture}.png"' in index, name  # the index's thumbnail
         for section in ("action-space", "rewards", "starting-state", "episode-end", "arguments", "benchmark"):
             assert f'id="{section}"' in page, (name, section)
         assert 'href="../../reference/api/envs/#unified_manip.envs.config.EnvConfig"' in page, name

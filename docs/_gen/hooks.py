@@ -50,7 +50,8 @@ def on_files(files: Files, config) -> Files:
     docs_dir = Path(config["docs_dir"])
     animations = taskpages.animations(docs_dir)
     for task_id, spec in _tasks().items():
-        page = taskpages.task_page(spec, taskpages.frame_exists(docs_dir, task_id), animations.get(task_id))
+        animation = animations.get(task_id)
+        page = taskpages.task_page(spec, taskpages.frame_exists(docs_dir, task_id, animation), animation)
         files.append(File.generated(config, taskpages.page_path(task_id), content=page))
     from unified_manip.cli.main import build_parser
 
@@ -82,7 +83,7 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
     if kind == "reward-table":
         return _reward_table()
     if kind == "task-table":
-        return taskpages.task_table(_tasks())
+        return taskpages.task_table(_tasks(), taskpages.animations(ROOT / "docs"))
     if kind == "versions":
         return taskpages.versions_table(_tasks())
     if kind == "results":

@@ -4,7 +4,8 @@
 
 Writes ``docs/images/tasks/<name>-v<N>.png`` for every task that has none (``--all``:
 for every task), then ``docs/images/tasks.png``, the home page's picture: every task's
-frame at half size, four to a row. The frame is taken a third of the way through an episode of the task's
+frame at half size, four to a row (a task that shares its previous version's animation,
+``animations.json``'s ``"file"``, shares its frame too, and the sheet shows it once). The frame is taken a third of the way through an episode of the task's
 scripted policy, seed 0 (at reset where the task has no scripted policy), so the page
 shows the robot at work. The PNGs are committed; the site build does not render.
 """
@@ -45,7 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--size", type=int, default=320, help="frame width and height in pixels")
     args = parser.parse_args(argv)
     OUT.mkdir(parents=True, exist_ok=True)
-    for task_id in unified_manip.TASKS:
+    for task_id in own_frames():
         path = OUT / f"{task_id.split('/', 1)[1]}.png"
         if path.exists() and not args.all:
             continue
@@ -55,12 +56,21 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def own_frames() -> list[str]:
+    """The IDs with a frame of their own: all but those sharing a previous version's files."""
+    import json
+
+    record = OUT / "animations.json"
+    shared = {t for t, a in json.loads(record.read_text()).items() if "file" in a} if record.is_file() else set()
+    return [t for t in unified_manip.TASKS if t not in shared]
+
+
 def write_sheet(path: Path, columns: int = 4) -> None:
     """Every task's frame at half size, ``columns`` to a row, in registration order."""
     import imageio.v3 as iio
     import numpy as np
 
-    frames = [iio.imread(OUT / f"{t.split('/', 1)[1]}.png")[::2, ::2, :3] for t in unified_manip.TASKS]
+    frames = [iio.imread(OUT / f"{t.split('/', 1)[1]}.png")[::2, ::2, :3] for t in own_frames()]
     frames += [np.full_like(frames[0], 255)] * (-len(frames) % columns)
     rows = [np.concatenate(frames[i : i + columns], axis=1) for i in range(0, len(frames), columns)]
     iio.imwrite(path, np.concatenate(rows, axis=0))

@@ -4,7 +4,9 @@
 
 Writes ``docs/images/tasks/<name>-v<N>.gif`` for every task that has none (``--all``:
 for every task) and records how each was made in ``docs/images/tasks/animations.json``,
-which the task pages read for their captions. One episode, seed 0, played by the task's
+which the task pages read for their captions. A task whose previous version plays the
+same episode, frame for frame (a version that changed only other modes), shares that
+version's files: its record says ``"file"``, and nothing is written. One episode, seed 0, played by the task's
 scripted policy (in ``ee_delta``, or the mode it emits); where a task has none, by the trained run committed under
 ``results/`` for it (``collect --all``'s choice), else by seeded random actions. The
 episode ends at its time limit, or one second after its first success. Frames are taken
@@ -105,6 +107,25 @@ def gif_frames(path: Path) -> int:
         return gif.n_frames
 
 
+def previous_version(task_id: str) -> str | None:
+    """``.../Name-vN``'s ``-v(N-1)``, if that is registered."""
+    stem, version = task_id.rsplit("-v", 1)
+    older = f"{stem}-v{int(version) - 1}"
+    return older if older in unified_manip.TASKS else None
+
+
+def same_episode(task_id: str, frames: list[np.ndarray], meta: dict, record: dict, size: int, fps: float) -> str | None:
+    """The previous version's file name where its recorded episode is this one, frame for
+    frame (replayed here, not assumed), else None."""
+    older = previous_version(task_id)
+    if older is None or older not in record or "file" in record[older]:
+        return None
+    old_frames, old_meta = episode(older, size, fps)
+    if old_meta != meta or len(old_frames) != len(frames):
+        return None
+    return older.split("/", 1)[1] if all(np.array_equal(a, b) for a, b in zip(old_frames, frames)) else None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--all", action="store_true", help="render every task, not only those without a GIF")
@@ -117,9 +138,16 @@ def main(argv: list[str] | None = None) -> int:
     for task_id in args.tasks or unified_manip.TASKS:
         name = task_id.split("/", 1)[1]
         path = OUT / f"{name}.gif"
-        if path.exists() and not args.all and not args.tasks:
+        done = path.exists() or "file" in record.get(task_id, {})
+        if done and not args.all and not args.tasks:
             continue
         frames, meta = episode(task_id, args.size, args.fps)
+        shared = same_episode(task_id, frames, meta, record, args.size, args.fps)
+        if shared is not None:
+            record[task_id] = {**record[previous_version(task_id)], "file": shared}
+            RECORD.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+            print(f"{task_id}: the episode of {shared}, frame for frame: its files are shared", flush=True)
+            continue
         tmp = path.with_suffix(".tmp.gif")
         write_gif(tmp, frames, meta["frame_ms"])
         tmp.replace(path)

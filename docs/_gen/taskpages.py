@@ -49,8 +49,15 @@ def animations(docs_dir: Path) -> dict[str, dict]:
     return json.loads(path.read_text()) if path.is_file() else {}
 
 
+def picture_name(task_id: str, animation: dict | None) -> str:
+    """The file name (no suffix) of the task's animation and frame: its own, or those of
+    its previous version where ``render_gifs.py`` found the two episodes identical frame
+    for frame and recorded ``"file"``."""
+    return (animation or {}).get("file", short_id(task_id))
+
+
 def _picture(spec, animation: dict | None, has_frame: bool) -> list[str]:
-    name = short_id(spec.id)
+    name = picture_name(spec.id, animation)
     if animation:
         success = animation["first_success_step"]
         outcome = f"success at step {success}" if success else "no success"
@@ -181,17 +188,19 @@ def _benchmark(task_id: str) -> list[str]:
     ]
 
 
-def task_table(tasks) -> str:
-    """Markdown: every registered ID with a thumbnail, its family, sizes and modes, linked
-    to its page."""
+def task_table(tasks, animations: dict[str, dict] | None = None) -> str:
+    """Markdown: every registered ID with a thumbnail (:func:`picture_name`), its family,
+    sizes and modes, linked to its page."""
     from unified_manip.envs.config import ACTION_MODES
 
+    animations = animations or {}
     rows = ["| | ID | family | goal size | episode steps | action modes |", "|---|---|---|---:|---:|---|"]
     for spec in tasks.values():
         name = short_id(spec.id)
         every = set(spec.action_modes) == set(ACTION_MODES)
         modes = "every mode" if every else ", ".join(f"`{m}`" for m in spec.action_modes)
-        thumb = f"[![{name}](../{FRAMES}/{name}.png){{ width=96 }}]({name}.md)"
+        picture = picture_name(spec.id, animations.get(spec.id))
+        thumb = f"[![{name}](../{FRAMES}/{picture}.png){{ width=96 }}]({name}.md)"
         rows.append(
             f"| {thumb} | [{name}]({name}.md) | `{spec.family}` | {spec.goal_dim} | {spec.max_episode_steps} | {modes} |"
         )
@@ -206,8 +215,8 @@ def versions_table(tasks) -> str:
     return "\n".join(rows)
 
 
-def frame_exists(docs_dir: Path, task_id: str) -> bool:
-    return (docs_dir / FRAMES / f"{short_id(task_id)}.png").is_file()
+def frame_exists(docs_dir: Path, task_id: str, animation: dict | None = None) -> bool:
+    return (docs_dir / FRAMES / f"{picture_name(task_id, animation)}.png").is_file()
 
 
 def reward_table(reward_types, term_sets) -> str:

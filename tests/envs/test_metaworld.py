@@ -21,7 +21,9 @@ from unified_manip.envs.tasks.metaworld.tasks import TASKS
 
 pytestmark = pytest.mark.metaworld  # every test here needs the metaworld extra
 
-IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld"]
+#: The newest version of each task (version 1 differs from 0 only off native: the wrists'
+#: damping, tested below).
+IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld" and spec.version == 1]
 
 
 def _make(task_id: str, action_mode: str = "native", **kwargs) -> gym.Env:
@@ -39,9 +41,9 @@ def test_the_task_list_is_metaworlds_own():
     assert list(TASKS) == list(metaworld.ALL_V3_ENVIRONMENTS)
     assert [unified_manip.TASKS[tid].upstream_id for tid in IDS] == [f"metaworld:{n}" for n in TASKS]
     assert set(TASKS) <= set(ENV_POLICY_MAP)
-    assert len(IDS) == 50 and IDS[0] == "UnifiedManip/MetaWorldAssembly-v0"
+    assert len(IDS) == 50 and IDS[0] == "UnifiedManip/MetaWorldAssembly-v1"
     assert set(SAMPLED_FAMILIES["metaworld"]) <= set(IDS)
-    env = _make("UnifiedManip/MetaWorldReach-v0")
+    env = _make("UnifiedManip/MetaWorldReach-v1")
     model = env.unwrapped.backend.model
     assert sorted(NAMES) == sorted(model.camera(i).name for i in range(model.ncam))
     env.close()
@@ -64,7 +66,7 @@ def test_the_task_lists_are_metaworlds_benchmarks_and_a_grid_expands_them(tmp_pa
     }
     ours = {name: [unified_manip.TASKS[t].upstream_id.split(":")[1] for t in ids] for name, ids in TASK_LISTS.items()}
     assert ours == theirs
-    drawer, test = "UnifiedManip/MetaWorldDrawerOpen-v0", list(TASK_LISTS["metaworld:ML10-test"])
+    drawer, test = "UnifiedManip/MetaWorldDrawerOpen-v1", list(TASK_LISTS["metaworld:ML10-test"])
     assert expand_task_lists([drawer, "metaworld:ML10-test"]) == [drawer, *(t for t in test if t != drawer)]
     grid = tmp_path / "grid.yaml"
     doc = {"tasks": ["metaworld:ML10-test"], "action_modes": ["native"], "reward_types": ["sparse"], "algos": ["sac"]}
@@ -73,7 +75,7 @@ def test_the_task_lists_are_metaworlds_benchmarks_and_a_grid_expands_them(tmp_pa
     assert [run.task for run in load_grid(grid).runs] == [test[-1]]
 
 
-@pytest.mark.parametrize("task_id", ["UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldBasketball-v0"])
+@pytest.mark.parametrize("task_id", ["UnifiedManip/MetaWorldPickPlace-v1", "UnifiedManip/MetaWorldBasketball-v1"])
 def test_steps_are_metaworlds_steps(task_id):
     """From one state, our steps and Meta-World's own ``step`` (on a copy of its env object,
     pickled with ours) give the same observations, goals, successes and rewards."""
@@ -87,7 +89,7 @@ def test_steps_are_metaworlds_steps(task_id):
         up_obs, up_reward, _, _, up_info = twin.step(a)
         np.testing.assert_array_equal(obs["observation"], up_obs[:36].astype(np.float32))
         target = np.array(twin._target_pos)
-        if task_id.endswith("Basketball-v0"):
+        if "Basketball" in task_id:
             target[2] = 0.3  # the height its success reads
         np.testing.assert_array_equal(obs["desired_goal"], target.astype(np.float32))
         assert info["native_success"] == up_info["success"] and info["native_reward"] == up_reward, t
@@ -96,7 +98,7 @@ def test_steps_are_metaworlds_steps(task_id):
 
 
 def test_reset_is_seeded_and_draws_new_placements():
-    env = _make("UnifiedManip/MetaWorldPickPlace-v0")
+    env = _make("UnifiedManip/MetaWorldPickPlace-v1")
     first = [env.reset(seed=s)[0] for s in range(4)]
     again = env.reset(seed=2)[0]
     for k in again:
@@ -123,7 +125,7 @@ def test_goal_distances_reproduce_metaworlds_success_tests():
 @pytest.mark.parametrize(
     "task_id",
     # the fingertips, an object carried, a handle along one axis
-    ["UnifiedManip/MetaWorldReach-v0", "UnifiedManip/MetaWorldPickPlace-v0", "UnifiedManip/MetaWorldDoorOpen-v0"],
+    ["UnifiedManip/MetaWorldReach-v1", "UnifiedManip/MetaWorldPickPlace-v1", "UnifiedManip/MetaWorldDoorOpen-v1"],
 )
 def test_scripted_policy_succeeds_and_success_is_metaworlds(task_id):
     """Meta-World's own policy, one seeded episode: it succeeds, and ``is_success`` equals
@@ -143,7 +145,7 @@ def test_scripted_policy_succeeds_and_success_is_metaworlds(task_id):
 
 
 def test_scripted_policy_factory_emits_native_only():
-    factory = unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy
+    factory = unified_manip.TASKS["UnifiedManip/MetaWorldReach-v1"].scripted_policy
     with pytest.raises(ValueError, match="emit native actions; got action_mode='ee_delta'"):
         factory("ee_delta")
 
@@ -184,19 +186,20 @@ def test_the_recorded_page_spaces_are_the_live_envs():
 
     record = json.loads(taskspaces.PINNED.read_text())
     assert record["versions"]["metaworld"] == {"mujoco": version("mujoco"), "metaworld": version("metaworld")}
-    assert sorted(record["tasks"]) == sorted(IDS)
+    every = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld"]  # both versions
+    assert sorted(record["tasks"]) == sorted(every)
     task_id = SAMPLED_FAMILIES["metaworld"][0]  # every ID has the same spaces; one is measured
     assert taskspaces.measure(task_id) == record["tasks"][task_id]
-    assert all(record["tasks"][t] == record["tasks"][task_id] for t in IDS)
+    assert all(record["tasks"][t] == record["tasks"][task_id] for t in every)
 
 
 def test_collect_plays_the_scripted_policy_in_native():
     """``collect --policy scripted`` records Meta-World's policy in the mode it emits."""
     from unified_manip.datasets.policies import scripted
 
-    env = _make("UnifiedManip/MetaWorldReach-v0")
+    env = _make("UnifiedManip/MetaWorldReach-v1")
     obs, _ = env.reset(seed=0)
-    ours, theirs = scripted(env), unified_manip.TASKS["UnifiedManip/MetaWorldReach-v0"].scripted_policy("native")
+    ours, theirs = scripted(env), unified_manip.TASKS["UnifiedManip/MetaWorldReach-v1"].scripted_policy("native")
     for _ in range(20):
         action = ours(obs)
         np.testing.assert_array_equal(action, theirs(env.unwrapped.state_observation()))
@@ -208,8 +211,8 @@ def test_joint_modes_start_where_native_starts_and_drive_the_sawyer():
     """Meta-World's reset (its mocap brings the hand to its start) carries over to the
     actuated copy exactly; a joint target moves the joint, and -1 closes the fingers."""
     native, joint = (
-        _make("UnifiedManip/MetaWorldPickPlace-v0"),
-        _make("UnifiedManip/MetaWorldPickPlace-v0", action_mode="joint_target_delta"),
+        _make("UnifiedManip/MetaWorldPickPlace-v1"),
+        _make("UnifiedManip/MetaWorldPickPlace-v1", action_mode="joint_target_delta"),
     )
     a, b = native.reset(seed=4)[0], joint.reset(seed=4)[0]
     for key in a:
@@ -226,13 +229,40 @@ def test_joint_modes_start_where_native_starts_and_drive_the_sawyer():
     native.close(), joint.close()
 
 
+def test_version_1_lets_the_wrists_outrun_the_cap_of_version_0():
+    """Meta-World damps every joint with 10 N m s/rad, which holds a wrist (9 N m) to
+    0.9 rad/s: a wrist target moving at 4 rad/s (0.05 rad per 12.5 ms step) is followed
+    at 0.9 rad/s in v0. v1's wrist damping of 1 lets it follow; native is the same."""
+    peaks, moved = {}, {}
+    for version in (0, 1):
+        env = _make(f"UnifiedManip/MetaWorldPickPlace-v{version}", action_mode="joint_target_delta")
+        env.reset(seed=4)
+        rig = env.unwrapped.backend.rig
+        q0, action = rig.joint_positions().copy(), np.zeros(8, dtype=np.float32)
+        action[4] = 1.0  # right_j4's target up 0.05 rad a step
+        speeds = []
+        for _ in range(15):
+            env.step(action)
+            speeds.append(abs(rig.data.qvel[rig.dof_adr[4]]))
+        peaks[version], moved[version] = max(speeds), rig.joint_positions()[4] - q0[4]
+        env.close()
+    assert 0.85 < peaks[0] < 0.91 and peaks[1] > 3.0, peaks
+    assert moved[1] > 2.5 * moved[0]
+    a, b = (_make(f"UnifiedManip/MetaWorldPickPlace-v{v}") for v in (0, 1))
+    obs = [env.reset(seed=4)[0] for env in (a, b)]
+    for _ in range(20):
+        step = [env.step(np.array([1.0, 0.0, -1.0, 1.0], dtype=np.float32))[0] for env in (a, b)]
+        obs.extend(step)
+    np.testing.assert_array_equal(obs[-2]["observation"], obs[-1]["observation"])
+
+
 def test_collect_translates_the_scripted_policy_into_the_end_effector_modes():
     """In ee_target_delta, whose step is Meta-World's 1 cm, the translated actions are
     Meta-World's with the gripper's sign flipped (the target moves as the mocap); in
     ee_delta the translated policy closes the drawer."""
     from unified_manip.datasets.policies import scripted
 
-    task_id = "UnifiedManip/MetaWorldDrawerClose-v0"
+    task_id = "UnifiedManip/MetaWorldDrawerClose-v1"
     env = _make(task_id, action_mode="ee_target_delta")
     theirs = unified_manip.TASKS[task_id].scripted_policy("native")
     obs, _ = env.reset(seed=0)

@@ -353,7 +353,7 @@ def test_meta_worlds_scripted_policy_demonstrates_in_its_own_native_mode():
     from unified_manip.training.demonstrations import demonstrable_modes
     from unified_manip.training.run_envs import make_vec_env
 
-    task_id = "UnifiedManip/MetaWorldReach-v0"
+    task_id = "UnifiedManip/MetaWorldReach-v1"
     assert demonstrable_modes(task_id) == list(unified_manip.TASKS[task_id].action_modes)
     check(task_id, "native", True, 2)
     venv = make_vec_env(task_id, {"action_mode": "native", "reward_type": "sparse"}, 1, 0, None, "dummy")

@@ -397,6 +397,6 @@ def test_the_mt10_pilot_grid_runs_four_modes_on_two_tasks_with_demonstrations():
     grid = load_grid(Path(__file__).parents[2] / "baselines" / "grids" / "studies" / "action_spaces_mt10_pilot.yaml")
     cells = {(r.task.split("/")[-1], r.action_mode) for r in grid.runs}
     modes = ("native", "ee_delta", "joint_delta", "joint_target_delta")
-    assert cells == {(t, m) for t in ("MetaWorldDrawerOpen-v0", "MetaWorldPush-v0") for m in modes}
+    assert cells == {(t, m) for t in ("MetaWorldDrawerOpen-v1", "MetaWorldPush-v1") for m in modes}
     assert {(r.seed, r.steps) for r in grid.runs} == {(0, 100_000)}
     assert all("demonstrations=100" in r.overrides for r in grid.runs)

@@ -18,9 +18,10 @@ Modules: :mod:`.goals` (goal distances), :mod:`.tasks` (the 50 tasks' goals),
 from unified_manip.envs.tasks.metaworld.benchmarks import LISTS
 from unified_manip.envs.tasks.metaworld.specs import SPECS
 
+#: Each task's newest ID (SPECS holds every version, oldest first).
 _IDS = {spec.upstream_id.removeprefix("metaworld:"): spec.id for spec in SPECS}
 
-#: Meta-World's benchmark lists as IDs (``metaworld:MT10`` in a bench grid's tasks).
+#: Meta-World's benchmark lists as the newest IDs (``metaworld:MT10`` in a bench grid's tasks).
 TASK_LISTS = {name: tuple(_IDS[n] for n in names) for name, names in LISTS.items()}
 
 __all__ = ["SPECS", "TASK_LISTS"]

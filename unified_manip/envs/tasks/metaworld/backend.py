@@ -64,6 +64,8 @@ class MetaWorldBackend(Backend):
         config: The validated env config (``options`` must be empty).
         controller: The action mode's controller config.
         task: The task's Meta-World name, e.g. ``"door-open-v3"``.
+        wrist_damping: The wrists' joint damping on the actuated copy, N m s/rad (None:
+            the model's 10, version 0; :data:`.rig.WRIST_DAMPING` in version 1).
 
     Attributes:
         upstream_obs: Meta-World's observation of the last step (39: hand, gripper,
@@ -71,7 +73,9 @@ class MetaWorldBackend(Backend):
         site: Site ids by name (what :class:`~.tasks.Point` reads).
     """
 
-    def __init__(self, config: EnvConfig, controller: ControllerConfig, task: str) -> None:
+    def __init__(
+        self, config: EnvConfig, controller: ControllerConfig, task: str, wrist_damping: float | None = None
+    ) -> None:
         if config.options:
             raise TypeError(f"Meta-World tasks take no extra options, got {sorted(config.options)}")
         up = make_upstream(task)
@@ -92,7 +96,7 @@ class MetaWorldBackend(Backend):
         self.action_dim = 4
         self._native = config.action_mode == "native"
         if not self._native:  # the other modes run on the actuated copy (.rig)
-            model = actuated_model(up.model_name)
+            model = actuated_model(up.model_name, wrist_damping)
             self._upstream_pair = (up.model, up.data)  # where upstream's reset moves the hand
             self._joint_pair = (model, mujoco.MjData(model))
             self.rig = MetaWorldRig(*self._joint_pair, up.dt)

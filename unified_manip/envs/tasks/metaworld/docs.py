@@ -55,8 +55,15 @@ def _lists(task: MetaWorldTask) -> str:
 list in place of its IDs: {names}."""
 
 
-def task_doc(task: MetaWorldTask) -> str:
-    """The page of one task."""
+_HISTORY = """Version history: v0 initial (over Meta-World 3.1.1, MuJoCo 3.3.0). v1: in the joint and
+end-effector modes, the wrists' (right_j4 to right_j6) joint damping is 1 N m s/rad, not
+the model's 10: with the 9 N m limit, 10 held a wrist to 0.9 rad/s, so the hand left the
+line the IK planned on fast moves. native is unchanged."""
+
+
+def task_doc(task: MetaWorldTask, version: int = 1) -> str:
+    """The page of one task at ``version`` (0 or 1)."""
+    damping = "10 N m s/rad (the model's)" if version == 0 else "1 N m s/rad on the wrists (10 on the others)"
     success = (
         "Success is Meta-World's own (info native_success)."
         if task.exact
@@ -80,7 +87,7 @@ Action modes (native: Meta-World's (dx, dy, dz, gripper); the end-effector modes
 dz, gripper); the joint modes: one entry per arm joint, right_j0 to right_j6, then the
 gripper; outside native the gripper is -1 closed, +1 open):
 {modes_section(CONTROLLERS)}
-{_JOINT_MODES}
+{_JOINT_MODES} Joint damping: {damping}.
 
 Rewards: term set "{terms.name}": {terms.doc}, with grip_to_object the fingertips'
 midpoint to the task's first object and grasped 1 while both finger pads touch one body.
@@ -92,5 +99,5 @@ mocap box) is kept, and the mode is asked for the grip site there.
 
 {_lists(task)}
 
-Version history: v0 initial (over Meta-World 3.1.1, MuJoCo 3.3.0).
+{_HISTORY}
 """

@@ -12,6 +12,10 @@ from unified_manip.envs.tasks.metaworld.docs import MAX_STEPS, task_doc
 from unified_manip.envs.tasks.metaworld.policies import MetaWorldPolicy
 from unified_manip.envs.tasks.metaworld.tasks import TASKS
 
+#: Each version's wrist damping on the actuated copy (None: the model's; :mod:`.rig`).
+#: Version 1 changes only the joint and end-effector modes: native never uses the copy.
+WRIST_DAMPING = {0: None, 1: 1.0}
+
 _BACKEND = "unified_manip.envs.tasks.metaworld.backend:MetaWorldBackend"
 
 #: Random steps per mode in the stability test (a Meta-World step takes about a millisecond).
@@ -23,14 +27,15 @@ SCRIPTED_EPISODES = 5
 SPECS: tuple[TaskSpec, ...] = tuple(
     TaskSpec(
         name=task.name,
+        version=version,
         family="metaworld",
         terms=GRIPPER_TERM_SETS[task.terms],
-        make_backend=lazy(_BACKEND, task=env_name),
+        make_backend=lazy(_BACKEND, task=env_name, wrist_damping=damping),
         controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=MAX_STEPS,
         distance_threshold=task.threshold,
-        doc=task_doc(task),
+        doc=task_doc(task, version),
         goal_distance=task.distance,
         scripted_policy=MetaWorldPolicy(env_name),
         scripted_episodes=SCRIPTED_EPISODES,
@@ -41,5 +46,6 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         make_upstream=lazy("unified_manip.envs.tasks.metaworld.backend:make_upstream", env_name),
         extra="metaworld",
     )
+    for version, damping in WRIST_DAMPING.items()
     for env_name, task in TASKS.items()
 )
