@@ -24,7 +24,7 @@ def test_ci_runs_the_readme_test_commands():
     assert 'uv pip install -q -e ".[robosuite]" mujoco==3.3.0' in ci
     # ... and then at the top of the range, where uv resolves mink 1.x: mink's modes' golden rollouts.
     top = next(i for i, line in enumerate(ci) if line.startswith('uv pip install -q -e ".[robosuite]" mujoco==3.9.0'))
-    assert {'python tests/envs/golden.py --only "|ee_delta|"', 'wait "$target"'} <= set(ci[top:])
+    assert {'python tests/envs/golden.py --only "|ee_delta|sparse"', 'wait "$target"'} <= set(ci[top:])
     assert (
         '-m "(golden or metaworld or not slow) and not robosuite" tests/envs tests/datasets tests/training'
         in commands[1]
