@@ -111,12 +111,19 @@ def _table_rows(text: str) -> list[dict[str, str]]:
     return [dict(zip(split[0], cells)) for cells in split[2:]]
 
 
-def _setting(row: dict[str, str], mode: str) -> tuple[str, str, str, str, str]:
-    return (row["task"], row["algo"], row[mode].strip("`"), row.get("observation", "default"), row["reward"])
+def _setting(row: dict[str, str], mode: str) -> tuple[str, str, str, str, str, str]:
+    return (
+        row["task"],
+        row["algo"],
+        row[mode].strip("`"),
+        row.get("observation", "default"),
+        row.get("randomization", "none"),
+        row["reward"],
+    )
 
 
-def _report_rows(report: Path) -> dict[tuple[str, str, str, str, str], str]:
-    """``(task, algo, mode, observation, reward) -> "mean [lo, hi]"`` from a committed
+def _report_rows(report: Path) -> dict[tuple[str, str, str, str, str, str], str]:
+    """``(task, algo, mode, observation, randomization, reward) -> "mean [lo, hi]"`` from a committed
     report's "Final success rate" table."""
     text = report.read_text().split("## Final success rate", 1)[1].split("\n## ", 1)[0]
     rows = {}

@@ -48,20 +48,35 @@ def final_table(paths: list[Path]) -> str:
     """Markdown: one row per setting (task, mode, observation design, reward, algorithm,
     demonstrations) of the given ``results.csv`` files, with the mean final success over
     seeds, its interval (:func:`seed_interval`, as in the report: the seeds' range below 5
-    seeds, the 95% bootstrap CI from 5) and each seed's value. The design gets a column
-    only where some run has a design other than the default, as in the report."""
+    seeds, the 95% bootstrap CI from 5) and each seed's value. The design and the
+    training randomisation each get a column only where some run has one other than the
+    default, as in the report."""
     groups = defaultdict(list)
     for path in paths:
         for r in read_results(path):
-            key = (r["task"], r["action_mode"], r["observation"], r["reward_type"], r["algo"], _demos(r), r["steps"])
+            rand = r.get("randomization") or "none"
+            key = (
+                r["task"],
+                r["action_mode"],
+                r["observation"],
+                rand,
+                r["reward_type"],
+                r["algo"],
+                _demos(r),
+                r["steps"],
+            )
             groups[key].append(r)
     designs = any(key[2] != "default" for key in groups)  # a column only where some run has one
+    rands = any(key[3] != "none" for key in groups)
     rows = [
-        f"| task | mode |{' observation |' if designs else ''} reward | algo | demonstrations | budget | seeds "
-        "| final success [interval] | per seed | wall time per run | steps/s |",
-        "|---|---|" + ("---|" if designs else "") + "---|---|---|---:|---:|---|---|---:|---:|",
+        f"| task | mode |{' observation |' if designs else ''}{' randomization |' if rands else ''} reward | algo "
+        "| demonstrations | budget | seeds | final success [interval] | per seed | wall time per run | steps/s |",
+        "|---|---|"
+        + ("---|" if designs else "")
+        + ("---|" if rands else "")
+        + "---|---|---|---:|---:|---|---|---:|---:|",
     ]
-    for (task, mode, design, reward, algo, demos, steps), runs in sorted(groups.items()):
+    for (task, mode, design, rand, reward, algo, demos, steps), runs in sorted(groups.items()):
         runs.sort(key=lambda r: r["seed"])
         finals = [r["final_success_rate"] for r in runs]
         interval = seed_interval(finals).text()
@@ -70,7 +85,8 @@ def final_table(paths: list[Path]) -> str:
         wall = float(np.median([r["wall_time_s"] for r in runs])) / 3600
         rate = float(np.median([r["steps_per_s"] for r in runs]))
         rows.append(
-            f"| {task.split('/')[-1]} | `{mode}` |{f' {design} |' if designs else ''} {reward} | {algo} | {demos} "
+            f"| {task.split('/')[-1]} | `{mode}` |{f' {design} |' if designs else ''}{f' {rand} |' if rands else ''} "
+            f"{reward} | {algo} | {demos} "
             f"| {steps:,} | {len(runs)} "
             f"| {np.mean(finals):.2f}{interval} | {seeds} | {wall:.2f} h | {rate:.0f} |"
         )
