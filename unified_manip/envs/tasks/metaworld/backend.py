@@ -65,7 +65,7 @@ class MetaWorldBackend(Backend):
         controller: The action mode's controller config.
         task: The task's Meta-World name, e.g. ``"door-open-v3"``.
         wrist_damping: The wrists' joint damping on the actuated copy, N m s/rad (None:
-            the model's 10, version 0; :data:`.rig.WRIST_DAMPING` in version 1).
+            the model's 10, version 0; :data:`.specs.WRIST_DAMPING`).
 
     Attributes:
         upstream_obs: Meta-World's observation of the last step (39: hand, gripper,

@@ -61,9 +61,14 @@ the model's 10: with the 9 N m limit, 10 held a wrist to 0.9 rad/s, so the hand 
 line the IK planned on fast moves. native is unchanged."""
 
 
-def task_doc(task: MetaWorldTask, version: int = 1) -> str:
-    """The page of one task at ``version`` (0 or 1)."""
-    damping = "10 N m s/rad (the model's)" if version == 0 else "1 N m s/rad on the wrists (10 on the others)"
+def task_doc(task: MetaWorldTask, wrist_damping: float | None) -> str:
+    """The page of one task whose version damps the wrists with ``wrist_damping`` N m s/rad
+    (None: the model's, as every other arm joint)."""
+    damping = (
+        "10 N m s/rad (the model's)"
+        if wrist_damping is None
+        else f"{wrist_damping:g} N m s/rad on the wrists (10 on the others)"
+    )
     success = (
         "Success is Meta-World's own (info native_success)."
         if task.exact

@@ -10,7 +10,7 @@ model's are 0; measured: servos on them diverge within 0.15 s at Meta-World's 2.
 step, with 0.1 kg m^2 they hold still to 1e-13 rad). The fingers keep Meta-World's two
 position actuators.
 
-Version 1 lowers the wrists' joint damping (:data:`WRIST_DAMPING`). Meta-World's model
+Version 1 lowers the wrists' joint damping (:data:`.specs.WRIST_DAMPING`). Meta-World's model
 damps every arm joint with 10 N m s/rad; a wrist's 9 N m limit then holds it to 0.9 rad/s,
 so on fast moves the wrists lag the IK's joint plan and the hand leaves its commanded
 line (measured: Reach, seed 0, ``ee_delta`` commanded +x -z for ~80 steps moved the hand
@@ -39,10 +39,8 @@ ARM_KP = (1000.0, 1000.0, 500.0, 500.0, 100.0, 100.0, 100.0)
 ARM_TORQUE = (80.0, 80.0, 40.0, 40.0, 9.0, 9.0, 9.0)
 #: The arm joints' armature, kg m^2 (see the module docstring).
 ARM_ARMATURE = 0.1
-#: The wrist joints, and their damping in version 1, N m s/rad (the module docstring):
-#: at 1, a wrist's 9 N m reaches 9 rad/s, above the Sawyer's rated 3.49-4.55 rad/s.
+#: The wrist joints, whose damping version 1 lowers (the module docstring).
 WRIST_JOINTS = ARM_JOINTS[4:]
-WRIST_DAMPING = 1.0
 #: The first arm body: gravity compensation from here down.
 ARM_ROOT = "right_l0"
 

@@ -12,8 +12,10 @@ from unified_manip.envs.tasks.metaworld.docs import MAX_STEPS, task_doc
 from unified_manip.envs.tasks.metaworld.policies import MetaWorldPolicy
 from unified_manip.envs.tasks.metaworld.tasks import TASKS
 
-#: Each version's wrist damping on the actuated copy (None: the model's; :mod:`.rig`).
-#: Version 1 changes only the joint and end-effector modes: native never uses the copy.
+#: Each version's wrist damping on the actuated copy, N m s/rad (None: the model's 10;
+#: :mod:`.rig`). At 1, a wrist's 9 N m reaches 9 rad/s, above the Sawyer's rated
+#: 3.49-4.55 rad/s. Version 1 changes only the joint and end-effector modes: native never
+#: uses the copy.
 WRIST_DAMPING = {0: None, 1: 1.0}
 
 _BACKEND = "unified_manip.envs.tasks.metaworld.backend:MetaWorldBackend"
@@ -35,7 +37,7 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         goal_dim=3,
         max_episode_steps=MAX_STEPS,
         distance_threshold=task.threshold,
-        doc=task_doc(task, version),
+        doc=task_doc(task, damping),
         goal_distance=task.distance,
         scripted_policy=MetaWorldPolicy(env_name),
         scripted_episodes=SCRIPTED_EPISODES,
