@@ -124,16 +124,26 @@ def test_a_bad_randomizations_axis_is_refused_before_any_run(change, message, tm
         load_grid(write_grid(tmp_path, {**GRID, "seeds": [0], "steps": 100, **change}))
 
 
-def test_committed_results_keep_their_names_and_read_as_none():
-    """Every committed results.csv reads with ``randomization`` none, and each of its runs
-    is still named as run names are made now (the name a grid gives it)."""
+def test_committed_results_keep_their_names_and_read_their_grids_randomization():
+    """Every committed results.csv reads with ``randomization`` none unless its grid has a
+    ``randomizations:`` axis, then with one of that axis's values; each of its runs is still
+    named as run names are made now (the name a grid gives it)."""
     from unified_manip.training.request import run_name
 
+    studies = 0
     for results in sorted(ROOT.glob("results/*/results.csv")):
+        grid = (
+            yaml.safe_load((results.parent / "grid.yaml").read_text())
+            if (results.parent / "grid.yaml").exists()
+            else {}
+        )
+        allowed = set(grid.get("randomizations", ["none"]))
+        studies += "randomizations" in grid
         for r in read_results(results):
-            assert r["randomization"] == "none", results
+            assert r["randomization"] in allowed, results
             keys = ("task", "action_mode", "reward_type", "algo", "seed", "observation", "randomization")
             assert run_name(*(r[k] for k in keys)) == r["run"], results
+    assert studies >= 1, "the randomisation study's results are committed"
 
 
 def test_train_with_randomization_none_is_the_run_it_was_before():
