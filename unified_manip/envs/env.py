@@ -25,34 +25,13 @@ class UnifiedManipEnv(GoalEnv):
     Build it with ``gym.make("UnifiedManip/<Task>-v0", **kwargs)``; the task's own
     documentation is in ``env.unwrapped.task.doc`` (and ``unified-manip list --doc``).
 
-    Args (keyword arguments of ``gym.make``, turned into an ``EnvConfig`` by
-    :func:`unified_manip.envs.setup.env_setup`):
+    Args:
         task_id: The registered ID (filled in by the registration).
-        action_mode: See :data:`unified_manip.envs.config.ACTION_MODES`.
-        reward_type: ``"sparse"``, ``"dense"`` or ``"dense_penalized"``.
-        terminate_on_success: End the episode (``terminated=True``) on success.
-        terminate_on: The task's other termination conditions to switch on, by name.
-        render_mode: ``None``, ``"rgb_array"`` or ``"human"``.
-        render_width: Width of ``rgb_array`` frames in pixels.
-        render_height: Height of ``rgb_array`` frames in pixels.
-        reward_config: The reward designs' numbers (``unified_manip.envs.rewards.RewardConfig``).
-        reward_spec: A reward design of your own, instead of ``reward_type``'s.
-        controller_options: Parameters of the action mode's controller in place of the
-            task's, e.g. ``{"band": 0.75}`` for ``joint_position``
-            (``unified_manip.envs.config.EnvConfig.mode_config``).
-        observation: A preset (``"default"``, ``"minimal"``, ``"relative"``, ``"full"``) or a
-            list of group names; ``env.unwrapped.observation_layout`` shows the result.
-        observation_distractors: Task-irrelevant random-walk features appended, seeded.
-        observation_noise: Gaussian std added to ``observation`` (one, or per group), seeded.
-        observation_delay: ``observation`` of this many steps earlier (goals stay exact).
-        camera: The camera of the ``"rgb"`` / ``"depth"`` image groups (the task's first if None).
-        image_size: Side of the square images in pixels (84).
-        camera_meshes: ``"full"`` or ``"decimated"`` visual meshes for the image groups
-            (``render()`` always draws the full ones).
-        randomization: Domain randomisation: a preset (``"none"``, ``"dynamics"``,
-            ``"objects"``, ``"visual"``, ``"all"``, optionally ``:extreme``) or a list of
-            terms (:mod:`unified_manip.envs.randomization`).
-        **options: Family-specific options (e.g. ``robot`` on robosuite tasks).
+        **kwargs: The other keyword arguments of ``gym.make``: the fields of
+            :class:`unified_manip.envs.config.EnvConfig` (``action_mode``, ``reward_type``,
+            ``observation``, ``randomization``, ... each documented there), and the
+            family's own options (e.g. ``robot`` on robosuite tasks), validated by
+            :func:`unified_manip.envs.setup.env_setup`.
 
     Observation:
         ``Dict(observation, achieved_goal, desired_goal)``, all float32 ``Box``, plus
@@ -233,24 +212,14 @@ class UnifiedManipEnv(GoalEnv):
 
         ``info`` is one info dict, or a sequence / object array of ``B`` of them.
         """
-        achieved_goal = np.asarray(achieved_goal, dtype=np.float64)
-        desired_goal = np.asarray(desired_goal, dtype=np.float64)
-        distance = self.task.goal_distance(achieved_goal, desired_goal)
-        success = (distance < self._threshold).astype(np.float64)
-        ctx = info_arrays(info, np.shape(distance), self._terms.info_keys)
-        return self.reward_spec.total(distance, success, ctx)
+        return self.reward_spec.total(*self._reward_inputs(achieved_goal, desired_goal, info))
 
     def compute_reward_terms(self, achieved_goal, desired_goal, info, raw: bool = False) -> dict[str, np.ndarray]:
         """The reward's terms for goals ``(g,)`` or ``(B, g)``, as ``compute_reward``:
         scaled (they add up to the reward, as ``info["reward_terms"]``) or, with
         ``raw=True``, before their scales."""
-        achieved_goal = np.asarray(achieved_goal, dtype=np.float64)
-        desired_goal = np.asarray(desired_goal, dtype=np.float64)
-        distance = self.task.goal_distance(achieved_goal, desired_goal)
-        success = (distance < self._threshold).astype(np.float64)
-        ctx = info_arrays(info, np.shape(distance), self._terms.info_keys)
-        spec = self.reward_spec
-        return spec.raw_batch(distance, success, ctx) if raw else spec.terms_batch(distance, success, ctx)
+        inputs = self._reward_inputs(achieved_goal, desired_goal, info)
+        return self.reward_spec.raw_batch(*inputs) if raw else self.reward_spec.terms_batch(*inputs)
 
     def compute_terminated(self, achieved_goal, desired_goal, info):
         """True on success when ``terminate_on_success`` is set, or where a switched-on
@@ -308,6 +277,15 @@ class UnifiedManipEnv(GoalEnv):
             return {k: 0.0 for k in self._terms.inputs}
         quantities = self._backend.quantities()
         return {k: float(quantities[k]) for k in self._terms.inputs}
+
+    def _reward_inputs(self, achieved_goal, desired_goal, info):
+        """``(distance, success, info arrays)`` for goals ``(g,)`` or ``(B, g)``, in float64
+        as ``step()`` computes them, so the two agree bit for bit."""
+        distance = self.task.goal_distance(
+            np.asarray(achieved_goal, dtype=np.float64), np.asarray(desired_goal, dtype=np.float64)
+        )
+        success = (distance < self._threshold).astype(np.float64)
+        return distance, success, info_arrays(info, np.shape(distance), self._terms.info_keys)
 
     def _success(self, obs: dict[str, np.ndarray]) -> float:
         d = self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"])

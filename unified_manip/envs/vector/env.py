@@ -21,14 +21,14 @@ from gymnasium.vector.utils import batch_space
 from unified_manip.envs.cameras import observation_box
 from unified_manip.envs.config import EnvConfig
 from unified_manip.envs.controllers.actions import checked_actions, squared_norms
-from unified_manip.envs.randomization.randomizer import Randomizer, build_randomizer
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.rewards import info_arrays
 from unified_manip.envs.termsets import ACTION_SQ
 from unified_manip.envs.vector import infos as vinfo
 from unified_manip.envs.vector.batched import BatchedBackend
 from unified_manip.envs.vector.observation_rows import ObservationRows
-from unified_manip.envs.vector.resets import env_seeds, reset_mask
+from unified_manip.envs.vector.randomizer_rows import Drawn, RandomizerRows
+from unified_manip.envs.vector.resets import env_seeds, reset_mask, step_resets
 
 
 class NativeVectorEnv(VectorEnv):
@@ -73,12 +73,7 @@ class NativeVectorEnv(VectorEnv):
         self._max_steps = max_episode_steps
         self._batched = batched
         self._rows = ObservationRows(config, self.task, batched, self._task_id)
-        # Each env's own randomisation terms on its own model, drawn from its own generator.
-        randomizers = [
-            build_randomizer(config.randomization, self.task.entities, batched.backend(i), self._task_id)
-            for i in range(n)
-        ]
-        self._randomizers: list[Randomizer] | None = None if randomizers[0] is None else randomizers  # type: ignore[assignment]
+        self._randomizers = RandomizerRows(config, self.task, batched, self._task_id)
         obs = self._rows.raw(batched.observations())
         obs["observation"] = self._rows.start_all(obs["observation"], np.random.default_rng(0))
         self.single_observation_space = spaces.Dict({key: observation_box(key, v[0]) for key, v in obs.items()})
@@ -111,7 +106,7 @@ class NativeVectorEnv(VectorEnv):
         seeds = env_seeds(seed, n)
         mask = reset_mask(options, n)
         extra: dict[str, Any] = {}
-        drawn: dict[int, dict[str, float]] = {}
+        drawn: Drawn = {}
         for i in np.flatnonzero(mask):
             if seeds[i] is not None or self._rngs[i] is None:
                 self._rngs[i], _ = seeding.np_random(seeds[i])
@@ -119,38 +114,25 @@ class NativeVectorEnv(VectorEnv):
         obs = self._fresh_obs(mask)
         quantities = self._inputs()
         info = vinfo.merge({}, vinfo.reset_info(self._success(obs), quantities, self._at_rest, extra), mask)
-        info = self._merge_drawn(info, drawn)
+        info = self._randomizers.merge(info, drawn)
         for key, value in quantities.items():
             self._before[key][mask] = value[mask]
         self._elapsed[mask] = 0
         self._autoreset[mask] = False
         self._needs_reset = False
-        return self._copy(obs), info
+        return {k: v.copy() for k, v in obs.items()}, info
 
     def step(self, actions):
         if self._needs_reset:
             raise error.ResetNeeded("Cannot call step() before calling reset()")
         a = self._validate(actions)
         n = self.num_envs
-        if self.autoreset_mode == AutoresetMode.NEXT_STEP:
-            resetting = self._autoreset.copy()
-        else:
-            if self.autoreset_mode == AutoresetMode.DISABLED and self._autoreset.any():
-                i = int(np.flatnonzero(self._autoreset)[0])
-                raise ValueError(
-                    f"env {i} has ended its episode: reset it first (reset(options={{'reset_mask': ...}}))"
-                )
-            resetting = np.zeros(n, dtype=bool)
+        resetting = step_resets(self.autoreset_mode, self._autoreset)
         stepping = ~resetting
-        drawn: dict[int, dict[str, float]] = {}
-        if self._randomizers is not None:  # interval draws, before the physics (as the single env)
-            for i in np.flatnonzero(stepping):
-                values = self._randomizers[i].step(self._batched.backend(int(i)), self._rng(int(i)))
-                if values is not None:
-                    drawn[int(i)] = values
+        drawn = self._randomizers.step(stepping, self._rng)
         diagnostics = self._batched.step(a, np.flatnonzero(stepping)) if stepping.any() else {}
         reset_extra: dict[str, np.ndarray] = {}
-        reset_drawn: dict[int, dict[str, float]] = {}
+        reset_drawn: Drawn = {}
         for i in np.flatnonzero(resetting):
             reset_extra = vinfo.gather(reset_extra, self._reset_one(int(i), False, reset_drawn), i, n)
         obs = self._rows.raw(self._batched.observations())
@@ -172,9 +154,7 @@ class NativeVectorEnv(VectorEnv):
         )
         success = (distance < self._threshold).astype(np.float64)
         terms = self.reward_spec.terms_batch(distance, success, ctx)
-        reward = np.zeros(n)
-        for value in terms.values():
-            reward = reward + value
+        reward = sum(terms.values(), np.zeros(n))  # term by term, in order, as the single env
         terminated = (success > 0.5) & self.config.terminate_on_success
         for termination in self._terminations:
             terminated |= termination.fn(ctx)
@@ -207,15 +187,15 @@ class NativeVectorEnv(VectorEnv):
             resetting = done
             done = np.zeros(n, dtype=bool)
         info = vinfo.merge(info, step_info, ~resetting)
-        info = self._merge_drawn(info, {i: v for i, v in drawn.items() if not resetting[i]})
+        info = self._randomizers.merge(info, {i: v for i, v in drawn.items() if not resetting[i]})
         if resetting.any():
             reset_info = vinfo.reset_info(self._success(obs), quantities, self._at_rest, reset_extra)
             info = vinfo.merge(info, reset_info, resetting)
-            info = self._merge_drawn(info, reset_drawn)
+            info = self._randomizers.merge(info, reset_drawn)
         for key, value in obs.items():
             self._last_obs[key] = value.copy()
         self._autoreset = done
-        return self._copy(obs), reward, terminated, truncated, info
+        return {k: v.copy() for k, v in obs.items()}, reward, terminated, truncated, info
 
     def render(self) -> tuple[np.ndarray | None, ...] | None:  # type: ignore[override]  # None per env in human mode
         if self.render_mode is None:
@@ -257,20 +237,16 @@ class NativeVectorEnv(VectorEnv):
         return info_arrays(info, shape, keys)
 
     # ------------------------------------------------------------------ helpers
-    def _reset_one(self, i: int, seeded: bool, drawn: dict[int, dict[str, float]]) -> dict[str, Any]:
+    def _reset_one(self, i: int, seeded: bool, drawn: Drawn) -> dict[str, Any]:
         """Reset env ``i`` from its generator, its randomisation first (as the single env);
         its drawn values go to ``drawn[i]``; returns its extra reset info."""
-        if self._randomizers is not None:
-            drawn[i] = self._randomizers[i].reset(self._batched.backend(i), self._rng(i), seeded)
+        self._randomizers.reset(i, self._rng(i), seeded, drawn)
         return self._batched.reset(i, self._rng(i))
-
-    def _merge_drawn(self, info: dict[str, Any], drawn: Mapping[int, Mapping[str, float]]) -> dict[str, Any]:
-        return vinfo.merge_rows(info, "randomization", drawn, self.num_envs)
 
     def randomization_state(self, index: int) -> dict[str, float]:
         """Env ``index``'s randomised values in force (the single env's
         ``randomization_state()``); empty under ``none``."""
-        return {} if self._randomizers is None else self._randomizers[index].state()
+        return self._randomizers.state(index)
 
     def _validate(self, actions) -> np.ndarray:
         return checked_actions(actions, self._action_shape, self._action_rule)
@@ -322,7 +298,3 @@ class NativeVectorEnv(VectorEnv):
         """As the single env's reset: success from the float32 goals."""
         distance = self.task.goal_distance(obs["achieved_goal"], obs["desired_goal"])
         return (distance < self._threshold).astype(np.float64)
-
-    @staticmethod
-    def _copy(obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        return {k: v.copy() for k, v in obs.items()}

@@ -1,11 +1,13 @@
 """What ``NativeVectorEnv.reset`` is asked to do: which seed each env gets, and which envs
-reset (Gymnasium's ``seed`` and ``options["reset_mask"]`` conventions)."""
+reset (Gymnasium's ``seed`` and ``options["reset_mask"]`` conventions), and which a
+``step()`` resets (its ``AutoresetMode``)."""
 
 from __future__ import annotations
 
 from typing import Sequence
 
 import numpy as np
+from gymnasium.vector import AutoresetMode
 
 
 def env_seeds(seed: int | Sequence[int | None] | None, n: int) -> list[int | None]:
@@ -29,3 +31,15 @@ def reset_mask(options: dict | None, n: int) -> np.ndarray:
     if not isinstance(mask, np.ndarray) or mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
         raise ValueError(f"options['reset_mask'] must be a bool array of shape ({n},) with a True, got {mask!r}")
     return mask
+
+
+def step_resets(mode: AutoresetMode, ended: np.ndarray) -> np.ndarray:
+    """The envs a ``step()`` resets instead of stepping: under ``NEXT_STEP`` those whose
+    episode ``ended`` on the last step, else none (``SAME_STEP`` reset them then;
+    ``DISABLED`` refuses to step an ended env)."""
+    if mode == AutoresetMode.NEXT_STEP:
+        return ended.copy()
+    if mode == AutoresetMode.DISABLED and ended.any():
+        i = int(np.flatnonzero(ended)[0])
+        raise ValueError(f"env {i} has ended its episode: reset it first (reset(options={{'reset_mask': ...}}))")
+    return np.zeros(ended.shape, dtype=bool)
