@@ -16,7 +16,7 @@ import numpy as np
 
 from unified_manip.experiments.results import read_results
 from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
-from unified_manip.experiments.robustness import robustness_tables
+from unified_manip.experiments.robustness_report import robustness_tables
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 

@@ -97,6 +97,60 @@ def test_robustness_writes_a_row_per_distribution_and_the_report_shows_the_gap(b
     assert "| observation design | mode | randomization | default | in-range | extreme |" in text
 
 
+def test_robustness_factors_tests_each_term_alone_and_the_report_ranks_their_drops(bench, tmp_path, capsys):
+    """``--factors``: each term of a shifted distribution that applies to the run's task,
+    alone, one row each beside the distribution as a whole; resumable; the report's
+    section gives each factor's drop from ``default``, and its figure."""
+    import shutil
+
+    copy = tmp_path / "bench"
+    shutil.copytree(bench, copy)
+    (copy / "robustness.csv").unlink(missing_ok=True)  # another test's rows
+    command = ["robustness", str(copy), "--test-distribution", "default", "extreme", "--factors", "--episodes", "2",
+               "--only", "action_mode=ee_delta", "--only", "randomization=dynamics"]  # fmt: skip
+    assert main(command) == 0
+    rows = read_robustness(copy / "robustness.csv")
+    assert [(r["distribution"], r["tested"], r["factor"]) for r in rows] == [
+        ("default", "none", ""),
+        ("extreme", "dynamics:extreme", ""),
+        ("extreme", "dynamics:extreme", "robot.actuator_gain"),
+        ("extreme", "dynamics:extreme", "robot.armature"),
+        ("extreme", "dynamics:extreme", "robot.damping"),
+        ("extreme", "dynamics:extreme", "table.friction"),
+    ]
+    assert "extreme: robot.damping only" in capsys.readouterr().err
+    before = (copy / "robustness.csv").read_bytes()
+    assert main(command) == 0  # resumes to nothing
+    assert (copy / "robustness.csv").read_bytes() == before
+    text = build_report(copy / "results.csv", copy / "report", command="r", dense_check=False).read_text()
+    section = text[text.index("## One factor at a time") :]
+    default = rows[0]["success_rate"]
+    for r in rows[1:]:
+        factor = r["factor"] or "all together"
+        assert f"| default | ee_delta | dynamics | 1 | {factor} | — | {default - r['success_rate']:+.2f} |" in section
+    assert (copy / "report" / "Arm4Reach-v0_factors.png").stat().st_size > 10_000
+    # The factor rows stay out of the whole-distribution table and the generalisation gap.
+    assert "| observation design | mode | randomization | default | extreme |" in text
+
+
+@pytest.mark.parametrize(
+    "extra,message",
+    [
+        (["--test-distribution", "default", "--factors"],
+         "--factors needs --test-distribution in-range or extreme (the ranges it shifts)"),
+        (["--only", "action_mode=joint_delta"], "--only action_mode=joint_delta selects none of the finished runs in"),
+        (["--only", "mode=ee_delta"], "malformed --only 'mode=ee_delta'; expected KEY=VALUE with KEY one of task, "
+         "action_mode, reward_type, algo, seed, observation, randomization"),
+    ],
+)  # fmt: skip
+def test_robustness_refuses_bad_factors_and_selections_in_one_line(bench, capsys, extra, message):
+    with pytest.raises(SystemExit) as exit_:
+        main(["robustness", str(bench), *extra])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err
+
+
 def test_a_grid_expands_its_randomizations_axis(tmp_path):
     grid = load_grid(write_grid(tmp_path, {**GRID, "seeds": [0], "steps": 100, "randomizations": ["none", "dynamics"]}))
     assert [(r.name, r.randomization, r.env_kwargs) for r in grid.runs] == [

@@ -22,10 +22,11 @@ SHIFTED = ("in-range", "extreme")
 def gaps(rows: list[dict[str, Any]]) -> dict[tuple[str, str, str, str], dict[str, list[float]]]:
     """``(task, design, mode, training randomisation) -> shifted distribution -> [gap per
     seed]``: default minus shifted success of each seed evaluated on both, without noise
-    or delay. Settings with no such pair are left out."""
+    or delay, every factor of the distribution together. Settings with no such pair are
+    left out."""
     success: dict[tuple, dict[str, float]] = defaultdict(dict)
     for r in rows:
-        if r["distribution"] and not r["noise"] and not r["delay"]:
+        if r["distribution"] and not r["noise"] and not r["delay"] and not r.get("factor"):
             key = (r["task"], r["observation"], r["action_mode"], r["randomization"], r["seed"])
             success[key][r["distribution"]] = r["success_rate"]
     out: dict[tuple[str, str, str, str], dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
@@ -63,12 +64,13 @@ def distribution_lines(rows: list[dict[str, Any]]) -> list[str]:
     ]
     for (task, design, mode, rand), by_shift in sorted(table.items()):
         seeds = max(len(v) for v in by_shift.values())
-        cells = " | ".join(_gap(by_shift.get(s, [])) for s in SHIFTED)
+        cells = " | ".join(gap_cell(by_shift.get(s, [])) for s in SHIFTED)
         lines.append(f"| {task.split('/')[-1]} | {design} | {mode} | {rand} | {seeds} | {cells} |")
     return lines + [""]
 
 
-def _gap(values: list[float]) -> str:
+def gap_cell(values: list[float]) -> str:
+    """A gap's mean over seeds, signed, with the seeds' interval (:func:`seed_interval`)."""
     if not values:
         return "—"
     interval = seed_interval(values).text()

@@ -15,6 +15,7 @@ from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.envs.task_lists import expand_task_lists
 from unified_manip.experiments.designs import check_design, parse_designs
 from unified_manip.experiments.randomizations import check_randomization, grid_randomizations
+from unified_manip.experiments.selection import matches, parse_only
 from unified_manip.training.algorithms import ALGOS
 from unified_manip.training.hyperparams import check_her_warmup, resolve_run
 from unified_manip.training.pretrain import check_settings as check_demonstration_settings
@@ -251,9 +252,6 @@ def _plain_name(name: object) -> bool:
     return isinstance(name, str) and name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
 
 
-SELECT_KEYS = ("task", "action_mode", "reward_type", "algo", "seed", "observation", "randomization")
-
-
 def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:
     """Names of the runs matching every ``key=value`` of ``select`` (None: no selection).
 
@@ -262,13 +260,11 @@ def selected(grid: Grid, select: tuple[str, ...]) -> set[str] | None:
     """
     if not select:
         return None
-    wanted: dict[str, set[str]] = {}
-    for item in select:
-        key, sep, value = item.partition("=")
-        if not sep or key not in SELECT_KEYS or not value:
-            raise GridError(f"malformed --only {item!r}; expected KEY=VALUE with KEY one of {', '.join(SELECT_KEYS)}")
-        wanted.setdefault(key, set()).add(value)
-    names = {r.name for r in grid.runs if all(str(getattr(r, k)) in v for k, v in wanted.items())}
+    try:
+        wanted = parse_only(select)
+    except ValueError as err:
+        raise GridError(str(err)) from None
+    names = {r.name for r in grid.runs if matches(vars(r), wanted)}
     if not names:
         raise GridError(f"--only {' '.join(select)} selects none of the grid's {len(grid.runs)} runs")
     return names

@@ -25,7 +25,7 @@ from unified_manip.experiments.figures import plot_final, plot_task
 from unified_manip.experiments.rankings import Groups, config_rankings, design_rankings
 from unified_manip.experiments.results import budget_unit, read_results, setting_key, steps_label
 from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
-from unified_manip.experiments.robustness import robustness_section
+from unified_manip.experiments.robustness_report import robustness_section
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, iqm_with_ci, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
 

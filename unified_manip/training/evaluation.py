@@ -5,11 +5,12 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
 from unified_manip.envs.randomization.presets import randomization_label
+from unified_manip.envs.randomization.terms import RandomizationTerm
 from unified_manip.envs.registry import get_task
 from unified_manip.envs.video import write_video
 from unified_manip.training import rundir
@@ -125,15 +126,15 @@ def evaluate(
     video_episodes: int = 2,
     deterministic: bool = True,
     device: str = "auto",
-    randomization: str | None = None,
+    randomization: str | Sequence[RandomizationTerm] | None = None,
     test_distribution: str | None = None,
 ) -> EvalResult:
     """Evaluate a run directory (its best model if any, else its final one) or a model
     zip inside a run directory. The env defaults to the run's own settings; a model
     cannot be evaluated in an action mode it was not trained in. ``observation_noise`` and
     ``observation_delay`` replace the run's own, to measure a policy's robustness;
-    ``randomization`` and ``test_distribution`` choose the world it is tested in
-    (:func:`evaluated_randomization`)."""
+    ``randomization`` (a preset or a list of terms) and ``test_distribution`` choose the
+    world it is tested in (:func:`evaluated_randomization`)."""
     from scipy.stats import binomtest
 
     from unified_manip.envs.observations import validate_count, validate_noise
@@ -197,9 +198,12 @@ def evaluate(
     )
 
 
-def evaluated_randomization(trained: Any, preset: str | None, distribution: str | None) -> Any:
+def evaluated_randomization(
+    trained: Any, preset: str | Sequence[RandomizationTerm] | None, distribution: str | None
+) -> Any:
     """The ``randomization`` a policy trained under ``trained`` (its run's value; ``None``:
-    ``none``) is evaluated under: ``preset`` where given, else ``trained``; with a
+    ``none``) is evaluated under: ``preset`` (a name, or a list of terms) where given, else
+    ``trained``; with a
     ``distribution`` (``default``, ``in-range``, ``extreme``: Packer et al. 2018), that
     preset's test distribution (``none``, the preset, its ``:extreme`` counterpart).
 
@@ -210,7 +214,7 @@ def evaluated_randomization(trained: Any, preset: str | None, distribution: str 
     """
     from unified_manip.envs.randomization import TEST_DISTRIBUTIONS, distribution_for, preset_terms
 
-    if preset is not None:
+    if isinstance(preset, str):  # a list of terms is checked when the env is made
         try:
             preset_terms(preset)
         except (TypeError, ValueError) as err:
