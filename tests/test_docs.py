@@ -200,6 +200,29 @@ def test_the_robustness_marker_repeats_the_committed_report():
         resultpages.robustness(ROOT / "results" / "benchmark", "benchmark", depth=1)
 
 
+def test_the_factors_marker_repeats_the_committed_report():
+    """``gen:factors``: each task's one-factor table is the report's, to the digit, and its
+    figure is the report's figure."""
+    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
+    import resultpages
+
+    from unified_manip.experiments.robustness import read_robustness
+
+    committed = [p.parent for p in sorted((ROOT / "results").glob("*/robustness.csv")) if any(
+        r["factor"] for r in read_robustness(p))]  # fmt: skip
+    assert committed, "the randomisation study's one-factor rows are committed"
+    for path in committed:
+        page = resultpages.factors(path, path.name, depth=1)
+        report = (path / "report" / "report.md").read_text().split("## One factor at a time", 1)[1]
+        tables = re.findall(r"\*\*[^*]+\*\*:\n\n((?:\|.*\n)+)", page + "\n")
+        figures = re.findall(r"\(\.\./assets/results/[^/]+/([^)]+_factors\.png)\)", page)
+        assert tables and len(figures) == len(tables)
+        assert all(table in report for table in tables)
+        assert all((path / "report" / figure).is_file() for figure in figures), figures
+    with pytest.raises(ValueError, match="no one-factor rows"):
+        resultpages.factors(ROOT / "results" / "observation_designs", "observation_designs", depth=1)
+
+
 def test_the_readme_benchmark_table_equals_the_committed_results():
     """Every row of the README's benchmark table: its seeds' mean and range, recomputed from
     the committed ``results/benchmark*/results.csv``."""

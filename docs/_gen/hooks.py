@@ -94,6 +94,8 @@ def _expand(kind: str, args: list[str], depth: int) -> str:
         return resultpages.figures(_experiment(args[0]), args[0], depth)
     if kind == "robustness":
         return resultpages.robustness(_experiment(args[0]), args[0], depth)
+    if kind == "factors":
+        return resultpages.factors(_experiment(args[0]), args[0], depth)
     if kind == "catalogue":
         return resultpages.catalogue_table(_experiment(args[0]))
     if kind == "conversion":
@@ -124,6 +126,7 @@ MARKERS = (
     "catalogue NAME",
     "conversion NAME",
     "robustness NAME",
+    "factors NAME",
     "headline NAME",
     "benchmark-summary",
 )

@@ -14,8 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
+from unified_manip.experiments.factors import factor_tables
 from unified_manip.experiments.results import read_results
 from unified_manip.experiments.robustness import FILE as ROBUSTNESS_FILE
+from unified_manip.experiments.robustness import read_robustness
 from unified_manip.experiments.robustness_report import robustness_tables
 from unified_manip.experiments.stats import MIN_SEEDS_FOR_CI, seed_interval
 from unified_manip.experiments.targets import benchmark_table, grid_targets
@@ -143,6 +145,27 @@ def robustness(path: Path, name: str, depth: int) -> str:
             *table,
             "",
             f"![{short} robustness]({'../' * depth}{ASSETS}/{name}/{short}_robustness.png)",
+            "",
+        ]
+    return "\n".join(out)
+
+
+def factors(path: Path, name: str, depth: int) -> str:
+    """Markdown: per task, each factor's drop in success alone shifted (the rows of
+    ``robustness.csv`` that ``robustness --factors`` wrote, by the report's own table
+    function) and the report's figure of it."""
+    tables = factor_tables(read_robustness(path / ROBUSTNESS_FILE))
+    if not tables:
+        raise ValueError(f"no one-factor rows in {path / ROBUSTNESS_FILE}; run unified-manip robustness --factors")
+    out = []
+    for task, table in tables.items():
+        short = task.split("/")[-1]
+        out += [
+            f"**{short}**:",
+            "",
+            *table,
+            "",
+            f"![{short} factors]({'../' * depth}{ASSETS}/{name}/{short}_factors.png)",
             "",
         ]
     return "\n".join(out)
