@@ -180,47 +180,38 @@ def test_the_catalogue_table_sums_each_task_and_the_whole_set(tmp_path):
     assert lines[5].startswith("**The whole set: 1 datasets of 3 tried, 0.00 GB, 0.03 h wall (0.01 h CPU)**")
 
 
-def test_the_robustness_marker_repeats_the_committed_report():
-    """``gen:robustness``: each task's table is the report's, to the digit, and its figure
-    is the report's figure."""
-    sys.path.insert(0, str(ROOT / "docs" / "_gen"))
-    import resultpages
-
-    committed = sorted(p.parent for p in (ROOT / "results").glob("*/robustness.csv"))
-    assert committed
-    for path in committed:
-        page = resultpages.robustness(path, path.name, depth=1)
-        report = (path / "report" / "report.md").read_text().split("## Robustness of the final policies", 1)[1]
-        tables = re.findall(r"\*\*[^*]+\*\*:\n\n((?:\|.*\n)+)", page + "\n")
-        figures = re.findall(r"\(\.\./assets/results/[^/]+/([^)]+)\)", page)
-        assert tables and len(figures) == len(tables)
-        assert all(table in report for table in tables)
-        assert all((path / "report" / figure).is_file() for figure in figures), figures
-    with pytest.raises(ValueError, match="no robustness.csv"):
-        resultpages.robustness(ROOT / "results" / "benchmark", "benchmark", depth=1)
-
-
-def test_the_factors_marker_repeats_the_committed_report():
-    """``gen:factors``: each task's one-factor table is the report's, to the digit, and its
-    figure is the report's figure."""
+@pytest.mark.parametrize(
+    "kind,section,empty",
+    [
+        ("robustness", "## Robustness of the final policies", ("benchmark", "no robustness.csv")),
+        ("factors", "## One factor at a time", ("observation_designs", "no one-factor rows")),
+    ],
+)
+def test_the_robustness_and_factors_markers_repeat_the_committed_report(kind, section, empty):
+    """``gen:robustness`` and ``gen:factors``: each task's table is the report's, to the
+    digit, and its figure is the report's figure (the whole distributions' and the factors
+    alone); a results directory without such rows is refused."""
     sys.path.insert(0, str(ROOT / "docs" / "_gen"))
     import resultpages
 
     from unified_manip.experiments.robustness import read_robustness
 
-    committed = [p.parent for p in sorted((ROOT / "results").glob("*/robustness.csv")) if any(
-        r["factor"] for r in read_robustness(p))]  # fmt: skip
-    assert committed, "the randomisation study's one-factor rows are committed"
+    committed = [
+        p.parent
+        for p in sorted((ROOT / "results").glob("*/robustness.csv"))
+        if kind == "robustness" or any(r["factor"] for r in read_robustness(p))
+    ]
+    assert committed, f"some committed results have {kind} rows"
     for path in committed:
-        page = resultpages.factors(path, path.name, depth=1)
-        report = (path / "report" / "report.md").read_text().split("## One factor at a time", 1)[1]
+        page = getattr(resultpages, kind)(path, path.name, depth=1)
+        report = (path / "report" / "report.md").read_text().split(section, 1)[1]
         tables = re.findall(r"\*\*[^*]+\*\*:\n\n((?:\|.*\n)+)", page + "\n")
-        figures = re.findall(r"\(\.\./assets/results/[^/]+/([^)]+_factors\.png)\)", page)
+        figures = re.findall(rf"\(\.\./assets/results/[^/]+/([^)]+_{kind}\.png)\)", page)
         assert tables and len(figures) == len(tables)
         assert all(table in report for table in tables)
         assert all((path / "report" / figure).is_file() for figure in figures), figures
-    with pytest.raises(ValueError, match="no one-factor rows"):
-        resultpages.factors(ROOT / "results" / "observation_designs", "observation_designs", depth=1)
+    with pytest.raises(ValueError, match=empty[1]):
+        getattr(resultpages, kind)(ROOT / "results" / empty[0], empty[0], depth=1)
 
 
 def test_the_readme_benchmark_table_equals_the_committed_results():

@@ -136,18 +136,7 @@ def robustness(path: Path, name: str, depth: int) -> str:
     tables = robustness_tables(path / ROBUSTNESS_FILE)
     if not tables:
         raise ValueError(f"no {ROBUSTNESS_FILE} in {path}; run unified-manip robustness on its runs")
-    out = []
-    for task, table in tables.items():
-        short = task.split("/")[-1]
-        out += [
-            f"**{short}**:",
-            "",
-            *table,
-            "",
-            f"![{short} robustness]({'../' * depth}{ASSETS}/{name}/{short}_robustness.png)",
-            "",
-        ]
-    return "\n".join(out)
+    return _with_figures(tables, name, depth, "robustness")
 
 
 def factors(path: Path, name: str, depth: int) -> str:
@@ -157,17 +146,16 @@ def factors(path: Path, name: str, depth: int) -> str:
     tables = factor_tables(read_robustness(path / ROBUSTNESS_FILE))
     if not tables:
         raise ValueError(f"no one-factor rows in {path / ROBUSTNESS_FILE}; run unified-manip robustness --factors")
+    return _with_figures(tables, name, depth, "factors")
+
+
+def _with_figures(tables: dict[str, list[str]], name: str, depth: int, kind: str) -> str:
+    """Each task's table under its short name, then the report's ``<task>_<kind>.png``."""
     out = []
     for task, table in tables.items():
         short = task.split("/")[-1]
-        out += [
-            f"**{short}**:",
-            "",
-            *table,
-            "",
-            f"![{short} factors]({'../' * depth}{ASSETS}/{name}/{short}_factors.png)",
-            "",
-        ]
+        figure = f"{'../' * depth}{ASSETS}/{name}/{short}_{kind}.png"
+        out += [f"**{short}**:", "", *table, "", f"![{short} {kind}]({figure})", ""]
     return "\n".join(out)
 
 
