@@ -121,13 +121,16 @@ def _key(r: dict[str, Any]) -> tuple:
 
 def _plot(task: str, settings: dict[Setting, dict], out: Path) -> Path:
     """One panel per shifted distribution: each factor's drop, one bar per setting (mean
-    over seeds, the seeds' range as an error bar)."""
+    over seeds, the seeds' range as an error bar). A colour per action mode (and design),
+    solid after randomised training, pale after nominal; the legend below the panels."""
     from unified_manip.experiments.figures import pyplot
 
     plt = pyplot()
     factors = sorted({f for by_factor in settings.values() for f in by_factor if f != TOGETHER})
     names = [TOGETHER, *factors]
-    fig, axes = plt.subplots(1, len(SHIFTED), figsize=(9, 1.2 + 0.42 * len(names)), dpi=110, sharey=True)
+    height_in = 1.6 + max(0.42, 0.11 * len(settings)) * len(names)
+    fig, axes = plt.subplots(1, len(SHIFTED), figsize=(9, height_in), dpi=110, sharey=True)
+    colours = {key: f"C{i}" for i, key in enumerate(sorted({(s[1], s[2]) for s in settings}))}
     height = 0.8 / len(settings)
     for ax, shift in zip(axes, SHIFTED):
         for k, ((_, design, mode, rand), by_factor) in enumerate(settings.items()):
@@ -136,9 +139,9 @@ def _plot(task: str, settings: dict[Setting, dict], out: Path) -> Path:
             low = np.array([mean[i] - min(v) if v else 0.0 for i, v in enumerate(values)])
             high = np.array([max(v) - mean[i] if v else 0.0 for i, v in enumerate(values)])
             y = np.arange(len(names)) + (k - (len(settings) - 1) / 2) * height
-            trained = "nominal" if rand == "none" else rand
-            label = f"{mode}, trained {trained}" + ("" if design == "default" else f", {design}")
-            ax.barh(y, mean, height=height, xerr=[low, high], label=label, capsize=2, error_kw={"lw": 0.7})
+            label = f"{mode}, {'nominal' if rand == 'none' else rand}" + ("" if design == "default" else f", {design}")
+            ax.barh(y, mean, height=height, xerr=[low, high], label=label, color=colours[(design, mode)],
+                    alpha=0.4 if rand == "none" else 1.0, capsize=2, error_kw={"lw": 0.7})  # fmt: skip
         ax.axvline(0.0, color="black", lw=0.6)
         ax.set_xlim(min(-0.1, ax.get_xlim()[0]), max(0.6, ax.get_xlim()[1]))  # a drop is at most 1
         ax.set_title(f"{shift}: drop in success vs default", fontsize=9)
@@ -146,9 +149,12 @@ def _plot(task: str, settings: dict[Setting, dict], out: Path) -> Path:
         ax.grid(axis="x", alpha=0.3)
     axes[0].set_yticks(np.arange(len(names)), names, fontsize=8)
     axes[0].invert_yaxis()
-    axes[-1].legend(fontsize=7, loc="lower right")
-    fig.suptitle(f"{task}: one factor at a time (mean over seeds, range as bars)", fontsize=9)
-    fig.tight_layout()
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=min(4, len(labels)), frameon=False)
+    fig.suptitle(f"{task}: one factor at a time, by action mode and training randomisation\n"
+                 "(mean over seeds, range as bars)", fontsize=9)  # fmt: skip
+    legend_in = 0.2 + 0.16 * -(-len(labels) // 4)  # inches: the legend's rows under the panels
+    fig.tight_layout(rect=(0, legend_in / height_in, 1, 1))
     path = out / f"{task.split('/')[-1]}_factors.png"
     fig.savefig(path)
     plt.close(fig)
