@@ -61,31 +61,15 @@ def factor_tables(rows: list[dict[str, Any]]) -> dict[str, list[str]]:
     """Per task, Markdown lines of a table of each factor's drop (mean over seeds, the
     seeds' range below 5 seeds): per setting, the distribution as a whole first and then
     the factors, worst on the extreme distribution first. Empty without factor rows."""
-    drops = factor_drops(rows)
-    tables = {}
-    for task in sorted({s[0] for s in drops}):
-        lines = [
-            "| observation design | mode | training randomization | seeds | factor | drop in-range | drop extreme |",
-            "|---|---|---|---:|---|---:|---:|",
-        ]
-        for (_, design, mode, rand), by_factor in sorted(drops.items()):
-            if _ == task:
-                for factor in ordered_factors(by_factor):
-                    shifts = by_factor[factor]
-                    seeds = max(len(v) for v in shifts.values())
-                    cells = " | ".join(gap_cell(shifts.get(s, [])) for s in SHIFTED)
-                    lines.append(f"| {design} | {mode} | {rand} | {seeds} | {factor} | {cells} |")
-        tables[task] = lines
-    return tables
+    return {task: _table(settings) for task, settings in _by_task(factor_drops(rows)).items()}
 
 
 def factor_lines(rows: list[dict[str, Any]], out: Path) -> list[str]:
     """Markdown lines: the section of :func:`factor_tables`, each task's table with a
     figure of it written to ``out``. None without factor rows."""
-    tables = factor_tables(rows)
-    if not tables:
+    by_task = _by_task(factor_drops(rows))
+    if not by_task:
         return []
-    drops = factor_drops(rows)
     lines = [
         "## One factor at a time",
         "",
@@ -95,9 +79,31 @@ def factor_lines(rows: list[dict[str, Any]], out: Path) -> list[str]:
         f"the factor costs success. `{TOGETHER}` is the distribution's every factor at once.",
         "",
     ]
-    for task, table in tables.items():
-        figure = _plot(task, {s: d for s, d in sorted(drops.items()) if s[0] == task}, Path(out))
-        lines += [f"**{task.split('/')[-1]}**:", "", *table, "", f"![{task} factors]({figure.name})", ""]
+    for task, settings in by_task.items():
+        figure = _plot(task, settings, Path(out))
+        lines += [f"**{task.split('/')[-1]}**:", "", *_table(settings), "", f"![{task} factors]({figure.name})", ""]
+    return lines
+
+
+def _by_task(drops: dict[Setting, dict]) -> dict[str, dict[Setting, dict]]:
+    """``task -> setting -> factor drops``, tasks and settings sorted."""
+    out: dict[str, dict[Setting, dict]] = {}
+    for setting, by_factor in sorted(drops.items()):
+        out.setdefault(setting[0], {})[setting] = by_factor
+    return out
+
+
+def _table(settings: dict[Setting, dict]) -> list[str]:
+    lines = [
+        "| observation design | mode | training randomization | seeds | factor | drop in-range | drop extreme |",
+        "|---|---|---|---:|---|---:|---:|",
+    ]
+    for (_task, design, mode, rand), by_factor in settings.items():
+        for factor in ordered_factors(by_factor):
+            shifts = by_factor[factor]
+            seeds = max(len(v) for v in shifts.values())
+            cells = " | ".join(gap_cell(shifts.get(s, [])) for s in SHIFTED)
+            lines.append(f"| {design} | {mode} | {rand} | {seeds} | {factor} | {cells} |")
     return lines
 
 
