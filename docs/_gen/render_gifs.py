@@ -37,9 +37,9 @@ def choose(task_id: str):
     if spec.scripted_policy is not None:  # in the mode it emits (Meta-World's: native)
         mode = spec.scripted_mode
         return mode, "its scripted policy", lambda env: spec.scripted_policy(mode)
-    from unified_manip.cli.datasets import _trained_runs
+    from unified_manip.cli.collect_all import trained_runs
 
-    run = _trained_runs(ROOT / "results").get(task_id)
+    run = trained_runs(ROOT / "results").get(task_id)
     if run is not None:
         make, source, kwargs = run
         return kwargs.get("action_mode", "native"), "a trained TQC+HER policy, deterministic", make
