@@ -1,5 +1,6 @@
 """The subcommands of ``unified-manip`` for grids of runs: ``bench``, ``report``,
-``robustness`` (:mod:`.robustness`) and ``plot``, each with its arguments beside it."""
+``aggregate``, ``robustness`` (:mod:`.robustness`) and ``plot``, each with its arguments
+beside it."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from unified_manip.training.devices import DEVICES
 
 
 def add_commands(sub) -> None:
-    """Add ``bench``, ``report``, ``robustness`` and ``plot`` to the subparsers ``sub``."""
+    """Add ``bench``, ``report``, ``aggregate``, ``robustness`` and ``plot`` to the subparsers ``sub``."""
     p = sub.add_parser("bench", help="run a grid of training runs (resumable)")
     p.add_argument("grid", help="grid YAML file, e.g. baselines/grids/action_spaces.yaml")
     p.add_argument("--out", help="bench directory (default: results/<grid name>)")
@@ -53,6 +54,13 @@ def add_commands(sub) -> None:
     p.add_argument("--claims", help="YAML of claimed results to set beside the measured ones")
     p.add_argument("--no-dense-check", action="store_true", help="skip the dense-reward sanity check")
     p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser(
+        "aggregate", help="cross-task aggregates (IQM, profiles, improvement) over several benches' results"
+    )
+    p.add_argument("results", nargs="+", help="results.csv files written by unified-manip bench")
+    p.add_argument("--out", required=True, help="output directory for aggregate.md and its figures")
+    p.set_defaults(func=cmd_aggregate)
 
     add_robustness(sub)
 
@@ -138,6 +146,18 @@ def cmd_report(args: argparse.Namespace) -> int:
         dense_check=not args.no_dense_check,
         claims=claims,
     )
+    print(f"wrote {path}")
+    return 0
+
+
+def cmd_aggregate(args: argparse.Namespace) -> int:
+    from unified_manip.experiments.joined import build_aggregate
+
+    paths = [Path(r) for r in args.results]
+    for results in paths:
+        if not results.is_file():
+            raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    path = build_aggregate(paths, Path(args.out), command=shlex.join(["unified-manip", *sys.argv[1:]]))
     print(f"wrote {path}")
     return 0
 

@@ -102,7 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_speed)
 
     add_run_commands(sub)  # train, eval
-    add_grid_commands(sub)  # bench, report, robustness, plot
+    add_grid_commands(sub)  # bench, report, aggregate, robustness, plot
     add_dataset_commands(sub)  # collect, replay, convert
 
     p = sub.add_parser("demo", help="roll out each task's scripted policy and write a picture strip")
@@ -122,6 +122,7 @@ COMMAND_EXTRAS: dict[str, tuple[str, ...]] = {
     "eval": ("train",),
     "bench": ("train", "bench"),
     "report": ("bench",),
+    "aggregate": ("bench",),
     "plot": ("bench",),
     "robustness": ("train", "bench"),
     "collect": ("datasets",),  # and train for --policy RUN_DIR (cli.datasets)
