@@ -200,6 +200,28 @@ def test_committed_results_keep_their_names_and_read_their_grids_randomization()
     assert studies >= 1, "the randomisation study's results are committed"
 
 
+def test_the_robustness_figure_pairs_each_mode_with_and_without_randomised_training():
+    """With runs trained nominal and randomised, the figure has a panel per action mode, a
+    line per training (the committed study); without, one panel with a line per design."""
+    from unified_manip.experiments.robustness_report import _cells, figure_panels
+
+    cells, _, _ = _cells([r for r in read_robustness(ROOT / "results/randomization_modes/robustness.csv")
+                          if not r["factor"]])  # fmt: skip
+    panels = figure_panels(cells["UnifiedManip/Arm4PickAndPlace-v0"])
+    modes = ["ee_delta", "ee_target_delta", "joint_delta", "joint_target_delta"]
+    assert [title for title, _ in panels] == modes
+    for mode, (_, lines) in zip(modes, panels):
+        assert [(key, label) for key, label, _ in lines] == [
+            (("default", mode, "none"), "trained nominal"),
+            (("default", mode, "dynamics+objects"), "trained under dynamics+objects"),
+        ]
+    cells, _, _ = _cells(read_robustness(ROOT / "results/observation_designs/robustness.csv"))
+    ((title, lines),) = figure_panels(cells["UnifiedManip/FetchPush-v0"])
+    assert title == "" and [label for _, label, _ in lines] == [
+        "native, default", "native, default+distractors32", "native, full", "native, minimal", "native, relative"
+    ]  # fmt: skip
+
+
 def test_train_with_randomization_none_is_the_run_it_was_before():
     """``--randomization none`` adds nothing to env_kwargs or the name, so a run directory
     from before randomisation resumes under it."""

@@ -79,29 +79,63 @@ def robustness_section(path: Path, out: Path) -> list[str]:
     return lines + factor_lines(every, Path(out))
 
 
+def figure_panels(designs: dict) -> list[tuple[str, list[tuple[tuple[str, str, str], str, str]]]]:
+    """The robustness figure's panels, ``(title, [(design key, label, colour)])``: with runs
+    trained under more than one randomisation, a panel per action mode (and design), a line
+    per training randomisation, so each panel shows what randomised training changes;
+    otherwise one untitled panel, a line per design and mode."""
+    trainings = sorted({r for _, _, r in designs}, key=lambda r: (r != "none", r))
+    several = len({d for d, _, _ in designs}) > 1
+
+    def name(design: str, mode: str) -> str:
+        return f"{mode}, {design}" if several else mode
+
+    def trained(rand: str) -> str:
+        return "trained nominal" if rand == "none" else f"trained under {rand}"
+
+    if len(trainings) > 1:
+        pairs = sorted({(d, m) for d, m, _ in designs})
+        return [(name(*p), [((*p, r), trained(r), f"C{trainings.index(r)}") for r in trainings]) for p in pairs]
+    return [("", [(k, name(*k[:2]), f"C{i}") for i, k in enumerate(sorted(designs))])]
+
+
 def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> Path:
-    """Success under each condition, one line per design: mean over seeds, range shaded."""
+    """Success under each condition (:func:`figure_panels`): mean over seeds, the seeds'
+    range shaded."""
     from unified_manip.experiments.figures import pyplot, save_success_figure
 
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6.5, 3.8), dpi=110)
+    panels = figure_panels(designs)
+    columns = min(4, len(panels))
+    rows = -(-len(panels) // columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(max(6.5, 2.6 * columns + 1.2), 2.6 * rows + 1.2), dpi=110,
+                             sharey=True, squeeze=False)  # fmt: skip
     x = np.arange(len(keys))
-    for (design, mode, rand), by_condition in sorted(designs.items()):
-        values = [by_condition.get(k, []) for k in keys]
-        mean = np.array([np.mean(v) if v else np.nan for v in values])
-        trained = "" if rand == "none" else f", trained under {rand}"
-        (line,) = ax.plot(x, mean, marker="o", ms=4, label=f"{design} ({mode}{trained}, n={max(map(len, values))})")
-        low = np.array([min(v) if v else np.nan for v in values])
-        high = np.array([max(v) if v else np.nan for v in values])
-        ax.fill_between(x, low, high, color=line.get_color(), alpha=0.15, linewidth=0)
-    ax.set_xticks(x, heads, fontsize=8)
-    ax.set_ylabel("success rate of the final policy")
-    ax.set_title(
-        f"{task}: final policies under {'test distributions, ' if any(k.distribution for k in keys) else ''}"
-        "observation noise and delay\n(mean over seeds, range shaded)",
-        fontsize=9,
-    )
-    return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_robustness.png")
+    for ax, (title, lines) in zip(axes.flat, panels):
+        for key, label, colour in lines:
+            values = [designs.get(key, {}).get(k, []) for k in keys]
+            if not any(values):
+                continue
+            mean = np.array([np.mean(v) if v else np.nan for v in values])
+            ax.plot(x, mean, marker="o", ms=4, color=colour, label=f"{label} (n={max(map(len, values))})")
+            low = np.array([min(v) if v else np.nan for v in values])
+            high = np.array([max(v) if v else np.nan for v in values])
+            ax.fill_between(x, low, high, color=colour, alpha=0.15, linewidth=0)
+        ax.set_xticks(x, heads, fontsize=7, rotation=30 if len(keys) > 4 else 0)
+        ax.set_title(title, fontsize=9)
+        ax.set_ylim(-0.02, 1.02)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, loc="lower left" if len(panels) > 1 else "best")
+    for ax in axes.flat[len(panels) :]:
+        ax.set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("success of the final policy", fontsize=8)
+    what = [w for w, on in (("test distributions", any(k.distribution for k in keys)),
+                            ("observation noise", any(k.noise for k in keys)),
+                            ("observation delay", any(k.delay for k in keys))) if on]  # fmt: skip
+    fig.suptitle(f"{task.split('/')[-1]}: final policies under {', '.join(what) or 'no shift'}\n"
+                 "(mean over seeds, range shaded)", fontsize=9)  # fmt: skip
+    return save_success_figure(fig, axes.flat[0], out / f"{task.split('/')[-1]}_robustness.png", legend=False)
 
 
 def _cell(values: list[float]) -> str:
