@@ -134,9 +134,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     from unified_manip.experiments.report import build_report
     from unified_manip.training.yamlfile import load_mapping
 
-    results = Path(args.results)
-    if not results.is_file():
-        raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    (results,) = _results_files([args.results])
     claims = load_mapping(Path(args.claims), "a mapping of claim labels") if args.claims else None
     out = Path(args.out) if args.out else results.parent / "report"
     path = build_report(
@@ -153,11 +151,9 @@ def cmd_report(args: argparse.Namespace) -> int:
 def cmd_aggregate(args: argparse.Namespace) -> int:
     from unified_manip.experiments.joined import build_aggregate
 
-    paths = [Path(r) for r in args.results]
-    for results in paths:
-        if not results.is_file():
-            raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
-    path = build_aggregate(paths, Path(args.out), command=shlex.join(["unified-manip", *sys.argv[1:]]))
+    path = build_aggregate(
+        _results_files(args.results), Path(args.out), command=shlex.join(["unified-manip", *sys.argv[1:]])
+    )
     print(f"wrote {path}")
     return 0
 
@@ -165,13 +161,20 @@ def cmd_aggregate(args: argparse.Namespace) -> int:
 def cmd_plot(args: argparse.Namespace) -> int:
     from unified_manip.experiments.plot import plot_overview
 
-    for results in map(Path, args.results):
-        if not results.is_file():
-            raise FileNotFoundError(f"{results} not found; expected a bench's results.csv")
+    paths = _results_files(args.results)
     if args.against == "demonstrations":
         from unified_manip.experiments.scaling import plot_against_demonstrations as draw
     else:
         draw = plot_overview
-    titles = draw([Path(r) for r in args.results], Path(args.out), columns=args.columns, tasks=args.tasks)
+    titles = draw(paths, Path(args.out), columns=args.columns, tasks=args.tasks)
     print(f"wrote {args.out} ({len(titles)} panels: {', '.join(titles)})")
     return 0
+
+
+def _results_files(names: list[str]) -> list[Path]:
+    """The given results.csv paths, each checked to exist (FileNotFoundError: one line)."""
+    paths = [Path(n) for n in names]
+    for path in paths:
+        if not path.is_file():
+            raise FileNotFoundError(f"{path} not found; expected a bench's results.csv")
+    return paths

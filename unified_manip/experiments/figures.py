@@ -107,13 +107,12 @@ def plot_task(task: str, groups: dict, out: Path, targets: dict[str, float] | No
     return save_success_figure(fig, ax, out / f"{task.split('/')[-1]}_success.png")
 
 
-def save_success_figure(fig, ax, path: Path, legend: bool = True) -> Path:
-    """Finish a figure of success rates in [0, 1] (grid, legend unless the caller drew
-    its own, tight layout), write it to ``path`` and close it."""
+def save_success_figure(fig, ax, path: Path) -> Path:
+    """Finish a figure of success rates in [0, 1] (grid, legend, tight layout), write it to
+    ``path`` and close it."""
     ax.set_ylim(-0.02, 1.02)
     ax.grid(alpha=0.3)
-    if legend:
-        ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     fig.savefig(path)
     pyplot().close(fig)

@@ -21,21 +21,21 @@ from unified_manip.experiments.results import ResultsError, budget_unit, read_re
 RUN_KEYS = ("task", "action_mode", "observation", "randomization", "algo", "reward_type", "seed")
 
 
-def joined_rows(paths: list[Path]) -> list[dict[str, Any]]:
-    """The rows of every ``results.csv`` in ``paths``, each with ``suite`` (its bench
-    directory's name).
+def joined_rows(paths: list[Path]) -> dict[Path, list[dict[str, Any]]]:
+    """The rows of every ``results.csv`` in ``paths``, by file.
 
     Raises:
         ResultsError: A file given twice, a file that is not a bench's, or one run (by
             :data:`RUN_KEYS`) in two files.
     """
-    rows: list[dict[str, Any]] = []
-    seen: dict[tuple, Path] = {}
     names = [Path(p).resolve() for p in paths]
     if len(set(names)) < len(names):
         raise ResultsError("aggregate was given the same results.csv twice; give each bench's file once")
+    out: dict[Path, list[dict[str, Any]]] = {}
+    seen: dict[tuple, Path] = {}
     for path in map(Path, paths):
-        for r in read_results(path):
+        out[path] = read_results(path)
+        for r in out[path]:
             key = tuple(r[k] for k in RUN_KEYS)
             if key in seen:
                 raise ResultsError(
@@ -43,20 +43,18 @@ def joined_rows(paths: list[Path]) -> list[dict[str, Any]]:
                     "so leave one of the two files out"
                 )
             seen[key] = path
-            rows.append({**r, "suite": path.parent.name})
-    return rows
+    return out
 
 
-def _sources(paths: list[Path], rows: list[dict[str, Any]]) -> list[str]:
+def _sources(by_file: dict[Path, list[dict[str, Any]]]) -> list[str]:
     """A table of where each task's runs come from: bench, tasks, runs, budget, seeds."""
     lines = ["| bench | tasks | runs | budget | seeds |", "|---|---|---:|---|---|"]
-    for path in map(Path, paths):
-        mine = [r for r in rows if r["suite"] == path.parent.name]
-        tasks = sorted({r["task"].split("/")[-1] for r in mine})
-        budgets = sorted({f"{r['steps']:,} {budget_unit(r)}" for r in mine})
-        seeds = sorted({r["seed"] for r in mine})
+    for path, rows in by_file.items():
+        tasks = sorted({r["task"].split("/")[-1] for r in rows})
+        budgets = sorted({f"{r['steps']:,} {budget_unit(r)}" for r in rows})
+        seeds = sorted({r["seed"] for r in rows})
         lines.append(
-            f"| `{path}` | {', '.join(tasks)} | {len(mine)} | {', '.join(budgets)} | {', '.join(map(str, seeds))} |"
+            f"| `{path}` | {', '.join(tasks)} | {len(rows)} | {', '.join(budgets)} | {', '.join(map(str, seeds))} |"
         )
     return lines
 
@@ -71,7 +69,8 @@ def build_aggregate(paths: list[Path], out: Path, command: str | None = None) ->
     """
     from unified_manip.training.rundir import write_atomic
 
-    rows = joined_rows(paths)
+    by_file = joined_rows(paths)
+    rows = [r for file_rows in by_file.values() for r in file_rows]
     out.mkdir(parents=True, exist_ok=True)
     section = aggregate_section(rows, out)
     if not section:
@@ -80,8 +79,8 @@ def build_aggregate(paths: list[Path], out: Path, command: str | None = None) ->
             f"no aggregate: no algorithm and reward has two action modes (or observation designs) run on "
             f"every one of two tasks or more (the files hold {', '.join(tasks)})"
         )
-    lines = [f"# Aggregate: {' + '.join(Path(p).parent.name for p in paths)}", "", "## How this was made", ""]
-    for path in map(Path, paths):
+    lines = [f"# Aggregate: {' + '.join(p.parent.name for p in by_file)}", "", "## How this was made", ""]
+    for path in by_file:
         command_file = path.parent / "command.txt"
         if command_file.is_file():
             lines += [f"`{path.parent}`:", "", "```bash", command_file.read_text().strip(), "```", ""]
@@ -94,7 +93,7 @@ def build_aggregate(paths: list[Path], out: Path, command: str | None = None) ->
         "",
         "Each task's runs come from one bench, with that bench's recipe and budget:",
         "",
-        *_sources(paths, rows),
+        *_sources(by_file),
         "",
         *section,
     ]

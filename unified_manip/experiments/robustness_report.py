@@ -102,7 +102,7 @@ def figure_panels(designs: dict) -> list[tuple[str, list[tuple[tuple[str, str, s
 def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> Path:
     """Success under each condition (:func:`figure_panels`): mean over seeds, the seeds'
     range shaded."""
-    from unified_manip.experiments.figures import pyplot, save_success_figure
+    from unified_manip.experiments.figures import pyplot
 
     plt = pyplot()
     panels = figure_panels(designs)
@@ -123,11 +123,11 @@ def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> 
             ax.fill_between(x, low, high, color=colour, alpha=0.15, linewidth=0)
         ax.set_xticks(x, heads, fontsize=7, rotation=30 if len(keys) > 4 else 0)
         ax.set_title(title, fontsize=9)
-        ax.set_ylim(-0.02, 1.02)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="lower left" if len(panels) > 1 else "best")
     for ax in axes.flat[len(panels) :]:
         ax.set_visible(False)
+    axes[0, 0].set_ylim(-0.02, 1.02)  # the panels share it
     for ax in axes[:, 0]:
         ax.set_ylabel("success of the final policy", fontsize=8)
     what = [w for w, on in (("test distributions", any(k.distribution for k in keys)),
@@ -135,7 +135,11 @@ def _plot(task: str, designs: dict, keys: list, heads: list[str], out: Path) -> 
                             ("observation delay", any(k.delay for k in keys))) if on]  # fmt: skip
     fig.suptitle(f"{task.split('/')[-1]}: final policies under {', '.join(what) or 'no shift'}\n"
                  "(mean over seeds, range shaded)", fontsize=9)  # fmt: skip
-    return save_success_figure(fig, axes.flat[0], out / f"{task.split('/')[-1]}_robustness.png", legend=False)
+    fig.tight_layout()
+    path = out / f"{task.split('/')[-1]}_robustness.png"
+    fig.savefig(path)
+    plt.close(fig)
+    return path
 
 
 def _cell(values: list[float]) -> str:
