@@ -91,7 +91,9 @@ class DrawPlan:
 def combine(operation: str, nominal: np.ndarray, value: np.ndarray) -> np.ndarray:
     """The field's new values from its nominal ones: ``abs``, ``scale`` or ``add``."""
     if operation == "abs":
-        return np.broadcast_to(value, np.shape(nominal)).astype(np.float64)
+        out = np.empty(np.shape(nominal))
+        out[...] = value
+        return out
     if operation == "scale":
         return nominal * value
     return nominal + value

@@ -137,7 +137,8 @@ class GeomSize(FieldWriter):
         return np.array([[float(np.min(u))] for u in used])  # the smallest half-size, for the add check
 
     def write(self, model, values, geometry) -> None:
-        geometry.set_size(model, self.ids, self.term.operation, np.broadcast_to(values[:, 0], len(self.ids)))
+        drawn = values[:, 0].tolist()
+        geometry.set_size(model, self.ids, self.term.operation, drawn * len(self.ids) if len(drawn) == 1 else drawn)
 
 
 class GeomShape(FieldWriter):
@@ -229,7 +230,7 @@ class Rgba(FieldWriter):
         return np.concatenate((model.mat_rgba[self._mats, :3], model.geom_rgba[self._geoms, :3]))
 
     def write(self, model, values, geometry) -> None:
-        rgb = np.clip(self.values(values), 0.0, 1.0)
+        rgb = np.minimum(np.maximum(self.values(values), 0.0), 1.0)
         k = len(self._mats)
         model.mat_rgba[self._mats, :3] = rgb[:k]
         model.geom_rgba[self._geoms, :3] = rgb[k:]

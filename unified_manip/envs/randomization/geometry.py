@@ -107,6 +107,13 @@ class Geometry:
             self._solid[body] = (geom, s.rest, 0.0, _half_height(int(model.geom_type[geom]), model.geom_size[geom]))
         self._dirty_geoms: set[int] = set()
         self._dirty_bodies: set[int] = set()
+        # Each resizable body's geoms, and their centres' distances from its inertial
+        # frame (neither is randomised), for its bounding-volume hierarchy.
+        self._reach: dict[int, tuple[slice, np.ndarray]] = {}
+        for b in {int(model.geom_bodyid[g]) for g in geoms}:
+            first, count = int(model.body_geomadr[b]), int(model.body_geomnum[b])
+            dist = [float(np.linalg.norm(model.geom_pos[g] - model.body_ipos[b])) for g in range(first, first + count)]
+            self._reach[b] = (slice(first, first + count), np.array(dist))
 
     def capture_rest(self, backend) -> None:
         """Read the nominal rest heights of the solids (once, when the env is made)."""
@@ -118,7 +125,7 @@ class Geometry:
         model.body_mass[bodies] = masses
         self._dirty_bodies.update(int(b) for b in bodies)
 
-    def set_size(self, model, geoms: np.ndarray, operation: str, values: np.ndarray) -> None:
+    def set_size(self, model, geoms: np.ndarray, operation: str, values: Sequence[float]) -> None:
         for g, v in zip(geoms, values):
             self._rule[int(g)] = (operation, float(v))
             self._resize(model, int(g))
@@ -145,6 +152,8 @@ class Geometry:
 
     def commit(self, model, backend) -> None:
         """Derive what the writes since the last commit changed (see the module docs)."""
+        if not self._dirty_geoms and not self._dirty_bodies:
+            return
         resized = {int(model.geom_bodyid[g]) for g in self._dirty_geoms}
         for g in self._dirty_geoms:
             rbound, half = _bounds(int(model.geom_type[g]), model.geom_size[g])
@@ -165,17 +174,13 @@ class Geometry:
         self._dirty_geoms.clear()
         self._dirty_bodies.clear()
 
-    @staticmethod
-    def _bvh(model, body: int) -> None:
+    def _bvh(self, model, body: int) -> None:
         """Every node of the body's hierarchy: a box around all its geoms, in its inertial frame."""
         n = int(model.body_bvhnum[body])
         if n == 0:
             return
-        first, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
-        geoms = range(first, first + count)
-        reach = max(
-            float(np.linalg.norm(model.geom_pos[g] - model.body_ipos[body])) + model.geom_rbound[g] for g in geoms
-        )
+        geoms, dist = self._reach[body]
+        reach = float(np.max(dist + model.geom_rbound[geoms]))
         adr = int(model.body_bvhadr[body])
         model.bvh_aabb[adr : adr + n, :3] = 0.0
         model.bvh_aabb[adr : adr + n, 3:] = reach

@@ -12,7 +12,7 @@ draws as the single env.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping, NamedTuple, Sequence
 
 import mujoco
 import numpy as np
@@ -33,6 +33,17 @@ def _keys(w: FieldWriter) -> list[str]:
     rows = [w.term.label] if w.term.shared or w.term.field == "shape" else [f"{w.term.label}[{e}]" for e in w.elements]
     width = FIELD_WIDTH[w.term.field]
     return [f"{r}[{k}]" if width > 1 else r for r in rows for k in range(width)]
+
+
+class _Plan(NamedTuple):
+    """The draws of one set of due terms: what to draw, the info keys of the values, the
+    writes in the order they run (each writer with its block of the draw), and whether
+    MuJoCo's constants must then be recomputed."""
+
+    draws: DrawPlan
+    keys: list[str]
+    writes: list[tuple[FieldWriter, int]]
+    needs_const: bool
 
 
 class Randomizer:
@@ -98,9 +109,10 @@ class Randomizer:
         self.geometry.capture_rest(backend)
         # The draws of a first or seeded reset (every term), of any other reset (no
         # startup term), and of each step that draws interval terms (built when first due).
-        self._plans: dict[tuple[int, ...], tuple[DrawPlan, list[str], list[FieldWriter]]] = {}
-        self._orders: dict[tuple[int, ...], list[int]] = {}
+        self._plans: dict[tuple[int, ...], _Plan] = {}
         self._every = sorted({w.term.every for w in self.writers if w.term.mode == "interval"})
+        self._due_all = tuple(range(len(self.writers)))
+        self._due_reset = tuple(i for i, w in enumerate(self.writers) if w.term.mode != "startup")
         self._state: dict[str, float] = {}
         self._started = False
         self._steps = 0
@@ -117,9 +129,7 @@ class Randomizer:
         every = seeded or not self._started
         self._started = True
         self._steps = 0
-        self._apply(
-            backend, np_random, tuple(i for i, w in enumerate(self.writers) if every or w.term.mode != "startup"), False
-        )
+        self._apply(backend, np_random, self._due_all if every else self._due_reset, False)
         return dict(self._state)
 
     def step(self, backend, np_random: np.random.Generator) -> dict[str, float] | None:
@@ -137,29 +147,28 @@ class Randomizer:
         """The values in force, by ``info["randomization"]`` key."""
         return dict(self._state)
 
-    def _plan(self, due: tuple[int, ...]) -> tuple[DrawPlan, list[str], list[FieldWriter]]:
+    def _plan(self, due: tuple[int, ...]) -> _Plan:
         plan = self._plans.get(due)
         if plan is None:
             writers = [self.writers[i] for i in due]
-            keys = [k for w in writers for k in _keys(w)]
             order = sorted(range(len(writers)), key=lambda j: writers[j].term.field != "shape")
-            plan = self._plans[due] = (
+            plan = self._plans[due] = _Plan(
                 DrawPlan([(w.term, w.count) for w in writers]),
-                keys,
-                [writers[j] for j in order],
+                [k for w in writers for k in _keys(w)],
+                [(writers[j], j) for j in order],
+                any(w.needs_const for w in writers),
             )
-            self._orders[due] = order
         return plan
 
     def _apply(self, backend, np_random: np.random.Generator, due: tuple[int, ...], keep_state: bool) -> None:
-        plan, keys, writers = self._plan(due)
-        flat, blocks = plan.draw(np_random)  # in term order
+        plan = self._plan(due)
+        flat, blocks = plan.draws.draw(np_random)  # in term order
         model = backend.model
-        for w, j in zip(writers, self._orders[due]):  # shape first, so that a size drawn with it scales it
+        for w, j in plan.writes:  # shape first, so that a size drawn with it scales it
             w.write(model, blocks[j], self.geometry)
-        self._state.update(zip(keys, flat.tolist()))
+        self._state.update(zip(plan.keys, flat.tolist()))
         self.geometry.commit(model, backend)
-        if any(w.needs_const for w in writers):
+        if plan.needs_const:
             data = backend.data
             if keep_state:  # mj_setConst works at qpos0: keep the episode's state
                 state = np.empty(mujoco.mj_stateSize(model, _STATE))
