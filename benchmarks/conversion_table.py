@@ -169,8 +169,16 @@ def _reason(error: str, task_id: str, mode: str) -> str:
     return reason.removeprefix("is ")
 
 
-#: What keeps an episode, in the order the tries run (an episode's ``replayed_by``).
-WAYS = ("search", "search, lockstep", "translated", "tracker")
+#: What keeps an episode, in the order the tries run (an episode's ``replayed_by``); the
+#: search's retries with the target's lead weighted in (``search, lead W``, in the order of
+#: their weights) run after the lockstep and before the open-loop guesses.
+WAYS = ("search", "search, lockstep", "search, lead", "translated", "tracker")
+
+
+def _way_order(way: str) -> tuple[int, float]:
+    if way.startswith("search, lead "):
+        return WAYS.index("search, lead"), -float(way.rsplit(" ", 1)[1])
+    return WAYS.index(way), 0.0
 
 
 def markdown(results: dict[str, dict[str, Any]]) -> str:
@@ -190,7 +198,7 @@ def markdown(results: dict[str, dict[str, Any]]) -> str:
                 continue
             share = m["success"] / m["episodes"]
             kept_by = m.get("kept_by", {})  # the tries in their order (older tables have none)
-            by = "; ".join(f"{way} {kept_by[way]}" for way in WAYS if way in kept_by) or "–"
+            by = "; ".join(f"{way} {kept_by[way]}" for way in sorted(kept_by, key=_way_order)) or "–"
             lines.append(
                 f"| {task_id} | {mode} | {m['success']}/{m['episodes']} ({share:.2f}) | {by} | "
                 f"{m['tracking_error_mean_cm']:.2f} | {m['tracking_error_max_cm']:.2f} | "

@@ -117,3 +117,22 @@ def test_the_command_reports_each_mode_and_writes_its_json_whole(tmp_path, capsy
     written = json.loads(out.read_text())
     assert list(written["UnifiedManip/Arm4Reach-v0"]["modes"]) == ["joint_delta", "ee_delta"]
     assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
+
+
+def test_what_kept_the_episodes_is_listed_in_the_order_the_tries_run():
+    """The search, its lockstep, its lead-weighted retries (the larger weight first, as
+    they run), then the open-loop guesses, whatever order the episodes came in."""
+    row = {
+        "success": 7,
+        "episodes": 10,
+        "kept_by": {"translated": 1, "search, lead 0.003": 2, "search": 3, "search, lead 0.01": 1},
+        "tracking_error_mean_cm": 0.5,
+        "tracking_error_max_cm": 4.0,
+        "translated_success": 9,
+        "seconds": 12.0,
+    }
+    line = markdown({"UnifiedManip/MetaWorldPush-v1": {"modes": {"joint_target_delta": row}}}).splitlines()[-1]
+    assert line == (
+        "| UnifiedManip/MetaWorldPush-v1 | joint_target_delta | 7/10 (0.70) | search 3; search, lead 0.01 1; "
+        "search, lead 0.003 2; translated 1 | 0.50 | 4.00 | 9/10 | 12 s |"
+    )

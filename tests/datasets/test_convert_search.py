@@ -70,41 +70,95 @@ def test_a_lagging_mode_catches_up_on_the_recorded_path(pick_and_place):
 
 
 @pytest.mark.slow  # which steps the search loses turns on rounding: MuJoCo 3.3.0 restores to 1e-9 only
-def test_an_episode_the_search_loses_is_kept_open_loop(tmp_path):
+def test_an_episode_the_search_loses_is_kept_by_a_retry(tmp_path):
     """Arm4Push-v0 into joint_target_delta, seeds 0-2: the search loses episodes 0 and 2,
-    catching up and in lockstep (the puck goes astray); played open loop, the translated
-    action keeps episode 0 and the tracker episode 2, and each row names what replayed
-    it. The written dataset, made of all three, replays exactly from its actions."""
+    catching up and in lockstep (the puck goes astray). With the target's lead weighted
+    in, the search keeps both (episode 0 at the first weight, episode 2 at the second);
+    without those retries, the translated action played open loop keeps episode 0 and the
+    tracker episode 2. Each row names what replayed it, and the written dataset, made of
+    all three, replays exactly from its actions."""
     source = _scripted("UnifiedManip/Arm4Push-v0", 3, tmp_path / "push-ee-v0")
     report = convert(source, "joint_target_delta", tmp_path / "push-target-v0", progress=False)
     assert [e.kept for e in report.episodes] == [True] * 3
-    assert [e.replayed_by for e in report.episodes] == ["translated", "search", "tracker"]
+    assert [e.replayed_by for e in report.episodes] == ["search, lead 0.01", "search", "search, lead 0.003"]
     assert replay(tmp_path / "push-target-v0", from_actions=True, progress=False).exact
+    open_loop = convert(source, "joint_target_delta", tmp_path / "push-open-v0", search=SearchConfig(lead_weights=()))
+    assert [e.replayed_by for e in open_loop.episodes] == ["translated", "search", "tracker"]
+    assert [e.kept for e in open_loop.episodes] == [True] * 3
+    assert replay(tmp_path / "push-open-v0", from_actions=True, progress=False).exact
+
+
+LEAD = ["search, lead 0.01", "search, lead 0.003"]
+
+
+ARM = "UnifiedManip/Arm4Push-v0"
 
 
 @pytest.mark.parametrize(
-    "method, config, names",
+    "task_id, mode, method, config, names",
     [
-        ("search", SearchConfig(), ["search", "search, lockstep", "translated", "tracker"]),
-        ("search", SearchConfig(catch_up=0), ["search", "translated", "tracker"]),
-        ("search", SearchConfig(fallback=False), ["search"]),
-        ("track", SearchConfig(), ["translated"]),
+        (
+            ARM,
+            "joint_target_delta",
+            "search",
+            SearchConfig(),
+            ["search", "search, lockstep", *LEAD, "translated", "tracker"],
+        ),
+        (ARM, "ee_target_delta", "search", SearchConfig(catch_up=0), ["search", *LEAD, "translated", "tracker"]),
+        (
+            ARM,
+            "joint_target_delta",
+            "search",
+            SearchConfig(lead_weights=(0.1,)),
+            ["search", "search, lockstep", "search, lead 0.1", "translated", "tracker"],
+        ),
+        (
+            ARM,
+            "joint_target_delta",
+            "search",
+            SearchConfig(lead_weights=()),
+            ["search", "search, lockstep", "translated", "tracker"],
+        ),
+        (ARM, "joint_delta", "search", SearchConfig(), ["search", "search, lockstep", "translated", "tracker"]),
+        (ARM, "joint_velocity", "search", SearchConfig(), ["search", "search, lockstep", "translated", "tracker"]),
+        pytest.param(
+            "UnifiedManip/Door-v0",
+            "joint_velocity",
+            "search",
+            SearchConfig(),
+            ["search", "search, lockstep", *LEAD, "translated", "tracker"],
+            marks=pytest.mark.robosuite,
+        ),
+        (ARM, "joint_target_delta", "search", SearchConfig(fallback=False), ["search"]),
+        (ARM, "joint_target_delta", "track", SearchConfig(), ["translated"]),
     ],
 )
-def test_the_ways_an_episode_is_tried_in_turn(method, config, names):
-    """An ee_delta recording of the arm: the search (catching up), then in lockstep, then
-    each initial guess open loop; without the fallback, the search only; ``track``, the
-    translated action only."""
+def test_the_ways_an_episode_is_tried_in_turn(task_id, mode, method, config, names):
+    """An ee_delta recording: the search (catching up), then in lockstep, then, in a mode
+    that carries a target (not the arm's ``joint_delta`` or ``joint_velocity``, but
+    robosuite's integrated ``joint_velocity``), the search with the target's lead weighted
+    in, at each weight; then each initial guess open loop. Without the fallback, the
+    search only; ``track``, the translated action only."""
     import gymnasium as gym
 
     from unified_manip.datasets.steps import steppers
     from unified_manip.envs.registry import get_task
 
-    task_id = "UnifiedManip/Arm4Push-v0"
-    target, probe = (gym.make(task_id, action_mode="joint_target_delta") for _ in range(2))
+    target, probe = (gym.make(task_id, action_mode=mode) for _ in range(2))
     ways = steppers(get_task(task_id), target, probe, "ee_delta", method, config)
     assert [w.name for w in ways] == names
-    assert [w.catch_up for w in ways] == [config.catch_up if n == "search" else 0 for n in names]
+    catching_up = [n == "search" or n.startswith("search, lead") for n in names]
+    assert [w.catch_up for w in ways] == [config.catch_up if c else 0 for c in catching_up]
+
+
+def test_a_lead_weight_needs_a_controller_that_carries_a_target():
+    import gymnasium as gym
+
+    from unified_manip.datasets.search import ActionSearch
+
+    with pytest.raises(ValueError) as err:
+        ActionSearch(gym.make(ARM, action_mode="joint_delta"), lead_weight=0.01)
+    assert str(err.value) == "a lead weight needs a controller that carries a target; JointDeltaController does not"
 
 
 @pytest.mark.robosuite
@@ -140,6 +194,7 @@ def test_bad_settings_fail_in_one_line(pick_and_place, kwargs, message):
         ("velocity_weight", -0.1, "SearchConfig.velocity_weight must be >= 0, got -0.1"),
         ("catch_up", -1, "SearchConfig.catch_up must be >= 0, got -1"),
         ("catch_up_cm", 0.0, "SearchConfig.catch_up_cm must be > 0, got 0.0"),
+        ("lead_weights", (0.01, 0.0), "SearchConfig.lead_weights must all be > 0, got (0.01, 0.0)"),
     ],
 )
 def test_search_config_validates_itself(field, value, message):

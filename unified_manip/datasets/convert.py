@@ -12,9 +12,10 @@ re-executes the recording step by step (:mod:`.steps`), by one of two methods:
   mode is slower than the recording's, the search spends up to
   :attr:`~.search.SearchConfig.catch_up` extra steps on a recorded step while the grip
   site lags it: the episode follows the recorded path at the mode's own pace. An episode
-  the search loses is tried again by the search in lockstep with the recording, then by
-  each initial guess open loop, and the first replay that is kept is kept
-  (:func:`.steps.steppers`).
+  the search loses is tried again by the search in lockstep with the recording; in a mode
+  that carries a target, by the search with the target's lead over the arm weighted in
+  (:attr:`~.search.SearchConfig.lead_weights`); then by each initial guess open loop. The
+  first replay that is kept is kept (:func:`.steps.steppers`).
 * ``track``: open loop, the recorded action translated into the mode (as the
   ``demonstrations`` run setting plays a scripted policy), or, for a dataset recorded in
   another mode, the grip site driven toward its next recorded position
@@ -51,8 +52,9 @@ class EpisodeConversion:
     goal's (mean and max, in the goal's units: m for a position); the first step whose
     grip site landed beyond the tolerance (``None``: none); the wall time, s, of every try;
     and what replayed it: ``search``, or, where the search lost it, the search in lockstep
-    (``search, lockstep``) or an initial guess played open loop (``translated``,
-    ``tracker``: :func:`.steps.guessers`)."""
+    (``search, lockstep``), the search with the target's lead weighted in (``search, lead
+    W``) or an initial guess played open loop (``translated``, ``tracker``:
+    :func:`.steps.guessers`)."""
 
     episode: int
     steps: int

@@ -60,6 +60,14 @@ class SearchConfig:
             mode is slower than the recording's (a capped joint step; a servoed arm
             after Meta-World's mocap hand). ``0``: one step per recorded step.
         catch_up_cm: The lag (cm) beyond which a step is caught up.
+        lead_weights: Where the search loses an episode (catching up and in lockstep) in a
+            mode that carries a target between steps (``joint_target_delta``,
+            ``ee_target_delta``, ``joint_velocity``), it tries it again with the
+            controller's lead (its target's offset from the measured arm, rad or m) in the
+            residual, at each of these weights in turn. One step ahead, the search can buy
+            each landing with a target that runs ever further ahead of the arm, until the
+            arm swings after it and leaves the path; the lead's cost holds the target near
+            the arm (docs/datasets.md has the measurements). ``()``: no such retries.
     """
 
     iterations: int = 3
@@ -71,6 +79,7 @@ class SearchConfig:
     fallback: bool = True
     catch_up: int = 4
     catch_up_cm: float = 1.0
+    lead_weights: tuple[float, ...] = (0.01, 0.003)
 
     def __post_init__(self) -> None:
         if self.iterations < 0:
@@ -83,6 +92,8 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.catch_up must be >= 0, got {self.catch_up}")
         if not self.velocity_weight >= 0:
             raise ValueError(f"SearchConfig.velocity_weight must be >= 0, got {self.velocity_weight}")
+        if not all(w > 0 for w in self.lead_weights):
+            raise ValueError(f"SearchConfig.lead_weights must all be > 0, got {self.lead_weights}")
 
 
 @dataclass(frozen=True)
@@ -124,9 +135,11 @@ class ActionSearch:
         probe: A gymnasium env of this project, made like the converted one; the search
             steps its backend only.
         config: The search's settings.
+        lead_weight: The weight of the controller's lead in the residual (0: none; see
+            :attr:`SearchConfig.lead_weights`).
     """
 
-    def __init__(self, probe, config: SearchConfig = SearchConfig()) -> None:
+    def __init__(self, probe, config: SearchConfig = SearchConfig(), lead_weight: float = 0.0) -> None:
         from unified_manip.envs.controllers.translate import arms
 
         self.env, self.config = probe, config
@@ -141,6 +154,12 @@ class ActionSearch:
         self.arm = np.concatenate(entries)
         site_mode = hasattr(views[0].control, "site_action_toward")
         self.velocity_weight = config.velocity_weight if site_mode else 0.0
+        self.controls = [v.control for v in views]
+        if lead_weight and not leads(self.controls):
+            raise ValueError(
+                f"a lead weight needs a controller that carries a target; {type(self.controls[0]).__name__} does not"
+            )
+        self.lead_weight = lead_weight
         self.probes = 0
 
     def start(self, seed: int) -> None:
@@ -161,13 +180,14 @@ class ActionSearch:
         # The sites and velocities as a restored recorded state reads them (mj_step leaves
         # them a substep behind; the probe is restored before its next try anyway).
         mujoco.mj_forward(backend.model, backend.data)
-        return np.concatenate(
-            (
-                sites(self.rigs) - target.site,
-                c.goal_weight * (achieved - target.goal),
-                self.velocity_weight * (site_velocities(self.rigs) - target.velocity),
-            )
-        )
+        parts = [
+            sites(self.rigs) - target.site,
+            c.goal_weight * (achieved - target.goal),
+            self.velocity_weight * (site_velocities(self.rigs) - target.velocity),
+        ]
+        if self.lead_weight:
+            parts.append(self.lead_weight * np.concatenate([control.lead() for control in self.controls]))
+        return np.concatenate(parts)
 
     def __call__(self, checkpoint, guesses: list[np.ndarray], target: Target) -> Landing:
         """The action from ``checkpoint`` (the converted env's) that lands nearest
@@ -205,6 +225,11 @@ class ActionSearch:
             if not improved:
                 break
         return Landing(x, float(np.linalg.norm(r[site])), float(np.linalg.norm(r[goal]) / c.goal_weight), self.probes)
+
+
+def leads(controls) -> bool:
+    """Whether every one of ``controls`` carries a target whose lead it can tell."""
+    return all(hasattr(control, "lead") for control in controls)
 
 
 def _as_action(x: np.ndarray) -> np.ndarray:

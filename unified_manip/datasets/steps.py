@@ -11,7 +11,7 @@ import numpy as np
 
 from unified_manip.datasets.errors import DatasetError
 from unified_manip.datasets.policies import shared_modes
-from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, site_velocities, sites
+from unified_manip.datasets.search import ActionSearch, SearchConfig, Target, leads, site_velocities, sites
 
 #: One converted step: ``(recorded action, where the recording was after it) -> action``.
 Stepper = Callable[[np.ndarray, Target], np.ndarray]
@@ -33,16 +33,25 @@ def steppers(task, target, probe, source_mode: str, method: str, config: SearchC
     initial guess played as it is; or the search from the best guess catching up
     (``search``), then, for an episode it loses, the search one step per recorded step
     (``search, lockstep``: catching up can run out the time limit before the recorded
-    path does) and, with ``config.fallback``, each initial guess played open loop."""
+    path does), and with ``config.fallback``: in a mode that carries a target, the search
+    catching up with the target's lead weighted in (``search, lead W`` for each of
+    :attr:`~.search.SearchConfig.lead_weights`); then each initial guess played open loop."""
     backend = target.unwrapped.backend
     named = guessers(task, backend, source_mode, target.unwrapped.config.action_mode)
     if method == "track":
         return [Way(*named[0])]
-    search = _Search(ActionSearch(probe, config), backend, _Guesses([guess for _, guess in named]))
+    guess = _Guesses([guess for _, guess in named])
+    search = _Search(ActionSearch(probe, config), backend, guess)
     ways = [Way("search", search, config.catch_up)]
-    if config.catch_up and config.fallback:
+    if not config.fallback:
+        return ways
+    if config.catch_up:
         ways.append(Way("search, lockstep", search))
-    return ways + ([Way(*n) for n in named] if config.fallback else [])
+    if leads(search.search.controls):
+        for weight in config.lead_weights:
+            held = _Search(ActionSearch(probe, config, lead_weight=weight), backend, guess)
+            ways.append(Way(f"search, lead {weight:g}", held, config.catch_up))
+    return ways + [Way(*n) for n in named]
 
 
 def guessers(task, backend, source_mode: str, mode: str) -> list[tuple[str, Stepper]]:

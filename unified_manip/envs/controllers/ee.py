@@ -73,3 +73,7 @@ class EETargetDeltaController(EEDeltaController):
 
     def site_action_toward(self, site_target: np.ndarray) -> np.ndarray:
         return (site_target - self.target) / self.config.step
+
+    def lead(self) -> np.ndarray:
+        """How far the carried target leads the measured grip site, m."""
+        return self.target - self.rig.site_position()

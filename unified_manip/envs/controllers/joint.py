@@ -156,6 +156,10 @@ class JointTargetDeltaController(_JointController):
     def action_toward(self, q_target: np.ndarray) -> np.ndarray:
         return (q_target - self.target) / self.scale
 
+    def lead(self) -> np.ndarray:
+        """How far the carried target leads the measured joints, rad."""
+        return self.target - self.rig.joint_positions()
+
 
 class JointVelocityController(_JointController):
     """Velocity servos tracking ``a * max_velocity``."""
@@ -201,3 +205,7 @@ class IntegratedJointVelocityController(_JointController):
 
     def action_toward(self, q_target: np.ndarray) -> np.ndarray:
         return (q_target - self.target) / (self.config.max_velocity * self.rig.dt)
+
+    def lead(self) -> np.ndarray:
+        """How far the carried target leads the measured joints, rad."""
+        return self.target - self.rig.joint_positions()
