@@ -3,12 +3,15 @@
 # (EPISODES, default 100; issue 39's cloning study uses 25, 100 and 400), converted into
 # every other mode with `unified-manip convert`. Resumable: a dataset that
 # exists is skipped (collect and convert publish under a temporary name, then rename).
-# MODES (default: every other mode) names the modes to convert into.
+# MODES (default: every other mode) names the modes to convert into. COLLECT names modes to
+# record directly instead, the scripted policy in that mode (Meta-World's native: its own
+# controller, which convert cannot drive), from the same seed.
 # Usage: make_datasets.sh TASK...   (run from a checkout with its .venv; ROOT defaults to ./data, the grid reads data/{task}/{action_mode}-v0)
 set -u
 ROOT=${ROOT:-data}
 EPISODES=${EPISODES:-100}
 MODES=${MODES:-joint_torque joint_position joint_delta joint_target_delta joint_velocity ee_target_delta native}
+COLLECT=${COLLECT:-}
 export OMP_NUM_THREADS=1 MUJOCO_GL=egl MINARI_DATASETS_PATH=$ROOT
 UM=${UM:-.venv/bin/unified-manip}
 for task in "$@"; do
@@ -18,6 +21,12 @@ for task in "$@"; do
     $UM collect --env UnifiedManip/$task --policy scripted --episodes $EPISODES --only-successful --seed 1000000 \
       --action-mode ee_delta --out $src --no-progress --json $ROOT/$name/ee_delta.json || exit 1
   fi
+  for mode in $COLLECT; do
+    out=$ROOT/$name/$mode-v0
+    [ -d "$out" ] && continue
+    $UM collect --env UnifiedManip/$task --policy scripted --episodes $EPISODES --only-successful --seed 1000000 \
+      --action-mode $mode --out $out --no-progress --json $ROOT/$name/$mode.json || exit 1
+  done
   for mode in $MODES; do
     out=$ROOT/$name/$mode-v0
     [ -d "$out" ] || [ -f $ROOT/$name/$mode.json ] && continue
