@@ -441,6 +441,19 @@ def test_the_cross_family_study_grid_names_one_dataset_per_task_and_mode():
     assert "ROOT=${ROOT:-data}" in (study / "make_datasets.sh").read_text()
 
 
+def test_the_mt10_study_grid_states_its_protocol():
+    """The MT10 comparison reads 40 datasets and needs Meta-World, which CI's first leg
+    lacks, so its file's protocol is checked here: MT10's ten tasks, the four modes, 3
+    seeds, 100k steps (the most allowed), and one dataset per task and mode."""
+    study = ROOT / "baselines" / "grids" / "studies"
+    doc = yaml.safe_load((study / "action_spaces_mt10.yaml").read_text())
+    assert doc["tasks"] == ["metaworld:MT10"] and doc["seeds"] == [0, 1, 2] and doc["algos"] == ["tqc_her"]
+    assert doc["action_modes"] == ["native", "ee_delta", "joint_delta", "joint_target_delta"]
+    assert doc["steps"] == 100_000 and doc["n_envs"] == 8
+    assert "demonstrations=data/{task}/{action_mode}-v0" in doc["overrides"]["tqc_her"]
+    assert "COLLECT=${COLLECT:-}" in (study / "make_datasets.sh").read_text()  # native: recorded, not converted
+
+
 @pytest.mark.robosuite  # loading the grid builds a Lift backend per observation design (check_design)
 def test_the_action_space_pilot_grid_loads_with_the_runs_it_names():
     """Issue 40's budget pilot (once ``baselines/grids/action_spaces_families_pilot.yaml``):
