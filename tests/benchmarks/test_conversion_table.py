@@ -125,7 +125,7 @@ def test_what_kept_the_episodes_is_listed_in_the_order_the_tries_run():
     row = {
         "success": 7,
         "episodes": 10,
-        "kept_by": {"translated": 1, "search, lead 0.003": 2, "search": 3, "search, lead 0.01": 1},
+        "kept_by": {"translated": 1, "search, lead 0.00015": 2, "search": 3, "search, lead 0.0005": 1},
         "tracking_error_mean_cm": 0.5,
         "tracking_error_max_cm": 4.0,
         "translated_success": 9,
@@ -133,6 +133,6 @@ def test_what_kept_the_episodes_is_listed_in_the_order_the_tries_run():
     }
     line = markdown({"UnifiedManip/MetaWorldPush-v1": {"modes": {"joint_target_delta": row}}}).splitlines()[-1]
     assert line == (
-        "| UnifiedManip/MetaWorldPush-v1 | joint_target_delta | 7/10 (0.70) | search 3; search, lead 0.01 1; "
-        "search, lead 0.003 2; translated 1 | 0.50 | 4.00 | 9/10 | 12 s |"
+        "| UnifiedManip/MetaWorldPush-v1 | joint_target_delta | 7/10 (0.70) | search 3; search, lead 0.0005 1; "
+        "search, lead 0.00015 2; translated 1 | 0.50 | 4.00 | 9/10 | 12 s |"
     )

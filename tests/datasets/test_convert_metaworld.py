@@ -39,6 +39,6 @@ def test_the_lead_weighted_retry_keeps_a_push_the_search_loses(tmp_path):
         )
         report = convert(source, "joint_target_delta", tmp_path / "push-target-v0", progress=False)
     (episode,) = report.episodes
-    assert episode.replayed_by == "search, lead 0.01"
+    assert episode.replayed_by == "search, lead 0.0005"
     assert episode.kept and episode.tracking_error_mean_cm < 1.0
     assert replay(tmp_path / "push-target-v0", from_actions=True, progress=False).exact

@@ -80,7 +80,7 @@ def test_an_episode_the_search_loses_is_kept_by_a_retry(tmp_path):
     source = _scripted("UnifiedManip/Arm4Push-v0", 3, tmp_path / "push-ee-v0")
     report = convert(source, "joint_target_delta", tmp_path / "push-target-v0", progress=False)
     assert [e.kept for e in report.episodes] == [True] * 3
-    assert [e.replayed_by for e in report.episodes] == ["search, lead 0.01", "search", "search, lead 0.003"]
+    assert [e.replayed_by for e in report.episodes] == ["search, lead 0.0005", "search", "search, lead 0.00015"]
     assert replay(tmp_path / "push-target-v0", from_actions=True, progress=False).exact
     open_loop = convert(source, "joint_target_delta", tmp_path / "push-open-v0", search=SearchConfig(lead_weights=()))
     assert [e.replayed_by for e in open_loop.episodes] == ["translated", "search", "tracker"]
@@ -88,7 +88,7 @@ def test_an_episode_the_search_loses_is_kept_by_a_retry(tmp_path):
     assert replay(tmp_path / "push-open-v0", from_actions=True, progress=False).exact
 
 
-LEAD = ["search, lead 0.01", "search, lead 0.003"]
+LEAD = ["search, lead 0.0005", "search, lead 0.00015"]
 
 
 ARM = "UnifiedManip/Arm4Push-v0"
@@ -109,8 +109,8 @@ ARM = "UnifiedManip/Arm4Push-v0"
             ARM,
             "joint_target_delta",
             "search",
-            SearchConfig(lead_weights=(0.1,)),
-            ["search", "search, lockstep", "search, lead 0.1", "translated", "tracker"],
+            SearchConfig(lead_weights=(1e-3,)),
+            ["search", "search, lockstep", "search, lead 0.001", "translated", "tracker"],
         ),
         (
             ARM,

@@ -62,12 +62,13 @@ class SearchConfig:
         catch_up_cm: The lag (cm) beyond which a step is caught up.
         lead_weights: Where the search loses an episode (catching up and in lockstep) in a
             mode that carries a target between steps (``joint_target_delta``,
-            ``ee_target_delta``, ``joint_velocity``), it tries it again with the
-            controller's lead (its target's offset from the measured arm, rad or m) in the
-            residual, at each of these weights in turn. One step ahead, the search can buy
-            each landing with a target that runs ever further ahead of the arm, until the
-            arm swings after it and leaves the path; the lead's cost holds the target near
-            the arm (docs/datasets.md has the measurements). ``()``: no such retries.
+            ``ee_target_delta``, robosuite's ``joint_velocity``), it tries it again with
+            the controller's lead in the residual (its target's offset from the measured
+            arm, in full action steps: the same scale in every mode), at each of these
+            weights (m per step) in turn. One step ahead, the search can buy each landing
+            with a target that runs ever further ahead of the arm, until the arm swings
+            after it and leaves the path; the lead's cost holds the target near the arm
+            (docs/datasets.md has the measurements). ``()``: no such retries.
     """
 
     iterations: int = 3
@@ -79,7 +80,7 @@ class SearchConfig:
     fallback: bool = True
     catch_up: int = 4
     catch_up_cm: float = 1.0
-    lead_weights: tuple[float, ...] = (0.01, 0.003)
+    lead_weights: tuple[float, ...] = (5e-4, 1.5e-4)
 
     def __post_init__(self) -> None:
         if self.iterations < 0:

@@ -75,5 +75,5 @@ class EETargetDeltaController(EEDeltaController):
         return (site_target - self.target) / self.config.step
 
     def lead(self) -> np.ndarray:
-        """How far the carried target leads the measured grip site, m."""
-        return self.target - self.rig.site_position()
+        """How far the carried target leads the measured grip site, in full action steps."""
+        return (self.target - self.rig.site_position()) / self.config.step

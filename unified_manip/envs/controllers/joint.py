@@ -157,8 +157,8 @@ class JointTargetDeltaController(_JointController):
         return (q_target - self.target) / self.scale
 
     def lead(self) -> np.ndarray:
-        """How far the carried target leads the measured joints, rad."""
-        return self.target - self.rig.joint_positions()
+        """How far the carried target leads the measured joints, in full action steps."""
+        return (self.target - self.rig.joint_positions()) / self.scale
 
 
 class JointVelocityController(_JointController):
@@ -207,5 +207,5 @@ class IntegratedJointVelocityController(_JointController):
         return (q_target - self.target) / (self.config.max_velocity * self.rig.dt)
 
     def lead(self) -> np.ndarray:
-        """How far the carried target leads the measured joints, rad."""
-        return self.target - self.rig.joint_positions()
+        """How far the carried target leads the measured joints, in full action steps."""
+        return (self.target - self.rig.joint_positions()) / (self.config.max_velocity * self.rig.dt)
