@@ -454,6 +454,27 @@ def test_the_mt10_study_grid_states_its_protocol():
     assert "COLLECT=${COLLECT:-}" in (study / "make_datasets.sh").read_text()  # native: recorded, not converted
 
 
+def test_the_mt10_grid_runs_without_demonstrations_exactly_where_its_datasets_table_has_none():
+    """A cell whose dataset was never written must not name it (the grid would refuse to
+    start), and one that has a dataset must use it: the grid's ``demonstrations=0`` cells
+    are the "none" cells of ``action_spaces_mt10_datasets.md``."""
+    study = ROOT / "baselines" / "grids" / "studies"
+    doc = yaml.safe_load((study / "action_spaces_mt10.yaml").read_text())
+    without = {
+        (c["task"].split("/")[-1], c["action_mode"]) for c in doc["cell_overrides"] if "demonstrations=0" in c["set"]
+    }
+    lines = [
+        line for line in (study / "action_spaces_mt10_datasets.md").read_text().splitlines() if line.startswith("| ")
+    ]
+    modes = [c.strip() for c in lines[0].strip("|").split("|")][1:]
+    none = set()
+    for line in lines[1:]:
+        task, *cells = (c.strip() for c in line.strip("|").split("|"))
+        none |= {(task, mode) for mode, cell in zip(modes, cells, strict=True) if cell.startswith("none")}
+    assert len(lines) == 11 and sorted(modes) == sorted(doc["action_modes"])  # header and ten tasks
+    assert without == none == {("MetaWorldDoorOpen-v1", "native"), ("MetaWorldPegInsertSide-v1", "joint_delta")}
+
+
 @pytest.mark.robosuite  # loading the grid builds a Lift backend per observation design (check_design)
 def test_the_action_space_pilot_grid_loads_with_the_runs_it_names():
     """Issue 40's budget pilot (once ``baselines/grids/action_spaces_families_pilot.yaml``):
