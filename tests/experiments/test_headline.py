@@ -22,11 +22,13 @@ def _row(task: str, mode: str, seed: int, final: float, demos: int = 100) -> dic
     return {**row, "wall_time_s": 360.0, "demonstrations": json.dumps({"episodes": demos})}
 
 
-def _experiment(tmp_path: Path, rows: list[dict]) -> Path:
+def _experiment(
+    tmp_path: Path, rows: list[dict], tasks=(ARM, FETCH), modes=("joint_torque", "joint_delta", "ee_delta")
+) -> Path:
     grid = {
         "name": "tiny",
-        "tasks": [ARM, FETCH],
-        "action_modes": ["joint_torque", "joint_delta", "ee_delta"],
+        "tasks": list(tasks),
+        "action_modes": list(modes),
         "reward_types": ["sparse"],
         "algos": ["tqc_her"],
         "seeds": [0, 1, 2],
@@ -70,6 +72,20 @@ def test_with_two_runs_of_every_mode_on_every_task_the_aggregate_gets_its_interv
     low, high = (float(v) for v in interval.strip("[]").split(", "))
     assert float(point) == pytest.approx(0.5) and 0.2 <= low < 0.5 < high <= 0.8
     assert cells["joint_torque"] == ["–", "–", "–"]
+
+
+def test_with_more_tasks_than_modes_the_table_has_a_row_per_task_and_the_iqm_last(tmp_path):
+    tasks = (ARM, FETCH, "UnifiedManip/Arm4Push-v0")
+    rows = [_row(ARM, "ee_delta", 0, 0.9), _row(FETCH, "joint_delta", 1, 0.3, demos=0)]
+    table = headline_table(_experiment(tmp_path, rows, tasks=tasks, modes=("joint_delta", "ee_delta")))
+    lines = table.splitlines()
+    assert lines[2:4] == ["| task | `joint_delta` | `ee_delta` |", "|---|---|---|"]
+    assert lines[4:8] == [
+        "| Arm4Reach-v0 | – | 0.90 (1 seed) |",
+        "| FetchReach-v0 | 0.30 (1 seed)† | – |",
+        "| Arm4Push-v0 | – | – |",
+        "| IQM, all 3 tasks | – | – |",
+    ]
 
 
 def test_a_headline_needs_one_algorithm_and_reward(tmp_path):

@@ -44,11 +44,29 @@ def _cell(values: list[float], planned: int) -> str:
     return text
 
 
+def _table(
+    cells: dict[tuple[str, str], str], aggregate: dict[str, str], modes: list[str], tasks: list[str]
+) -> list[str]:
+    """A row per mode and a column per task, ending in the aggregate's column; turned (a row
+    per task, the aggregate as the last row) where there are more tasks than modes, so that
+    the table stays narrow."""
+    names = {t: t.split("/")[-1] for t in tasks}
+    if len(tasks) > len(modes):
+        lines = ["| task | " + " | ".join(f"`{m}`" for m in modes) + " |", "|---|" + "---|" * len(modes)]
+        lines += [f"| {names[t]} | " + " | ".join(cells[(m, t)] for m in modes) + " |" for t in tasks]
+        return lines + [f"| IQM, all {len(tasks)} tasks | " + " | ".join(aggregate[m] for m in modes) + " |"]
+    lines = ["| action mode | " + " | ".join(names.values()) + f" | IQM, all {len(tasks)} tasks |"]
+    lines += ["|---|" + "---|" * (len(tasks) + 1)]
+    return lines + [f"| `{m}` | " + " | ".join(cells[(m, t)] for t in tasks) + f" | {aggregate[m]} |" for m in modes]
+
+
 def headline_table(path: Path) -> str:
     """Markdown: a status line, then one row per action mode and one column per task (final
     success, mean [range of the seeds]; † marks a cell run without demonstrations), with a
     last column of each mode's IQM over all its runs on all tasks (rliable, stratified
-    bootstrap 95% CI once every mode has two runs on every task; ``[—]`` before).
+    bootstrap 95% CI once every mode has two runs on every task; ``[—]`` before). With more
+    tasks than modes the table is turned: a row per task, a column per mode, and the IQM
+    as the last row.
 
     ``path`` is a committed experiment: its ``grid.yaml`` says what was planned and its
     ``results.csv`` what has finished.
@@ -73,22 +91,19 @@ def headline_table(path: Path) -> str:
     ci = bool(scores.runs) and min(n for n, _ in scores.runs.values()) >= MIN_RUNS_PER_TASK_FOR_CI
     iqm = iqm_intervals(scores.final) if scores.modes else {}
     hours = sum(r["wall_time_s"] for r in rows) / 3600
-    names = [t.split("/")[-1] for t in tasks]
+    cells: dict[tuple[str, str], str] = {}
+    for m in modes:
+        for t in tasks:
+            values = finals.get((m, t))
+            mark = "†" if (m, t) in bare else ""
+            cells[(m, t)] = _cell(values, planned[(m, t)]) + mark if values else "–"
+    aggregate = {m: iqm_text(iqm[m], ci) if m in iqm else "–" for m in modes}
     lines = [
         f"{len(rows)} of {len(grid.runs)} runs, {hours:.1f} core-hours so far (the finished runs' "
         "wall time, one core each; a cell names its seeds where fewer than planned have finished).",
         "",
-        "| action mode | " + " | ".join(names) + f" | IQM, all {len(tasks)} tasks |",
-        "|---|" + "---|" * (len(tasks) + 1),
     ]
-    for m in modes:
-        cells = []
-        for t in tasks:
-            values = finals.get((m, t))
-            mark = "†" if (m, t) in bare else ""
-            cells.append(_cell(values, planned[(m, t)]) + mark if values else "–")
-        agg = iqm_text(iqm[m], ci) if m in iqm else "–"
-        lines.append(f"| `{m}` | " + " | ".join(cells) + f" | {agg} |")
+    lines += _table(cells, aggregate, modes, tasks)
     lines += [
         "",
         "Final success: mean [range of the seeds]. † without demonstrations (its mode's "
