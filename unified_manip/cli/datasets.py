@@ -77,6 +77,10 @@ def add_commands(sub) -> None:
         help="record the converted episodes with this observation design (default: the dataset's)",
     )
     p.add_argument(
+        "--env",
+        help="play the episodes on this ID, another version of the recorded task (default: the recorded ID)",
+    )
+    p.add_argument(
         "--method",
         choices=METHODS,
         default=METHODS[0],
@@ -228,6 +232,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
         observation=args.observation,
         method=args.method,
         tolerance_cm=args.tolerance,
+        env_id=args.env,
     )
     table = Table(title=f"{args.dataset} converted to {args.action_mode} ({args.method})")
     columns = "episode|steps|success recorded|success converted|grip site off cm (mean / max)|goal off (mean / max)"

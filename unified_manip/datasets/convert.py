@@ -53,7 +53,7 @@ class EpisodeConversion:
     grip site landed beyond the tolerance (``None``: none); the wall time, s, of every try;
     and what replayed it: ``search``, or, where the search lost it, the search in lockstep
     (``search, lockstep``), the search with the target's lead weighted in (``search, lead
-    W``) or an initial guess played open loop (``translated``, ``tracker``:
+    W``) or an initial guess played open loop (``recorded``, ``translated``, ``tracker``:
     :func:`.steps.guessers`)."""
 
     episode: int
@@ -110,13 +110,18 @@ def convert(
     method: str = METHODS[0],
     tolerance_cm: float = TOLERANCE_CM,
     search: SearchConfig = SearchConfig(),
+    env_id: str | None = None,
 ) -> ConvertReport:
     """Convert the dataset at ``path`` (its ``first`` episodes; ``None``: all) to
     ``action_mode`` by ``method`` (:data:`METHODS`), and to the observation design
-    ``observation`` (``None``: the recorded one), and publish it as ``out`` (``None``:
-    measure only), with its first ``keep`` kept episodes (``None``: all). No dataset is
-    written when no episode is kept, nor when more than ``max_failed`` episodes fail to
-    convert (the conversion stops there)."""
+    ``observation`` (``None``: the recorded one), on the task ``env_id`` (``None``: the
+    recorded one; another version of it, whose model the recorded states fit), and publish
+    it as ``out`` (``None``: measure only), with its first ``keep`` kept episodes
+    (``None``: all). No dataset is written when no episode is kept, nor when more than
+    ``max_failed`` episodes fail to convert (the conversion stops there).
+
+    Into the recorded mode, ``track`` plays the recorded actions themselves: the same
+    episodes, seen through another observation design or played on another version."""
     import gymnasium as gym
     from tqdm import tqdm
 
@@ -128,8 +133,11 @@ def convert(
     meta = store.metadata(dataset)
     if out is not None:
         out = store.check_out(Path(out), overwrite)
-    spec = gym.spec(meta["env_id"])
-    task = _task(meta["env_id"])
+    try:
+        task = _task(env_id or meta["env_id"])
+    except ValueError as err:
+        raise DatasetError(f"convert --env: {err}") from None
+    spec = gym.spec(task.id)
     source_mode = meta["env_kwargs"].get("action_mode")
     try:
         task.check_choices(action_mode, meta["env_kwargs"].get("reward_type", "sparse"))

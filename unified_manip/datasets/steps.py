@@ -55,16 +55,20 @@ def steppers(task, target, probe, source_mode: str, method: str, config: SearchC
 
 
 def guessers(task, backend, source_mode: str, mode: str) -> list[tuple[str, Stepper]]:
-    """Each step's initial guesses, named: ``translated``, the recorded action translated
-    into the mode, where the dataset was recorded in ``ee_delta`` or in its scripted
-    policy's own mode (as the ``demonstrations`` run setting plays a scripted policy:
-    Meta-World's ``native`` through its policy's translator); and ``tracker``, where it was
-    recorded in a mode of the shared controllers, the tracker's action toward the next
-    recorded grip site with the recorded gripper command (one arm)."""
+    """Each step's initial guesses, named: ``recorded``, the recorded action itself, where
+    the dataset was recorded in the mode converted into (so that ``track`` replays it
+    exactly, seen through another observation design); ``translated``, the recorded action
+    translated into the mode, where the dataset was recorded in ``ee_delta`` or in its
+    scripted policy's own mode (as the ``demonstrations`` run setting plays a scripted
+    policy: Meta-World's ``native`` through its policy's translator); and ``tracker``, where
+    it was recorded in a mode of the shared controllers, the tracker's action toward the
+    next recorded grip site with the recorded gripper command (one arm)."""
     from unified_manip.envs.controllers.translate import EEDeltaInMode, SiteTracker, arms
 
     ee = task.controllers["ee_delta"]
     named: list[tuple[str, Stepper]] = []
+    if source_mode == mode:
+        named.append(("recorded", _Open(lambda a, target: np.array(a))))
     translator = getattr(task.scripted_policy, "translator", None) if source_mode == task.scripted_mode else None
     try:
         if source_mode == "ee_delta" or translator is not None:
