@@ -115,15 +115,17 @@ def previous_version(task_id: str) -> str | None:
 
 
 def same_episode(task_id: str, frames: list[np.ndarray], meta: dict, record: dict, size: int, fps: float) -> str | None:
-    """The previous version's file name where its recorded episode is this one, frame for
-    frame (replayed here, not assumed), else None."""
+    """The file name of the previous version's episode (its own, or the one it shares)
+    where that episode is this one, frame for frame (replayed here, not assumed), else None."""
     older = previous_version(task_id)
-    if older is None or older not in record or "file" in record[older]:
+    if older is None or older not in record:
         return None
     old_frames, old_meta = episode(older, size, fps)
     if old_meta != meta or len(old_frames) != len(frames):
         return None
-    return older.split("/", 1)[1] if all(np.array_equal(a, b) for a, b in zip(old_frames, frames)) else None
+    if not all(np.array_equal(a, b) for a, b in zip(old_frames, frames)):
+        return None
+    return record[older].get("file", older.split("/", 1)[1])
 
 
 def main(argv: list[str] | None = None) -> int:

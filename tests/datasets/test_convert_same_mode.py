@@ -52,3 +52,21 @@ def test_an_unknown_env_for_convert_names_the_close_ids(tmp_path):
     source = _collect("UnifiedManip/Arm4Reach-v0", "joint_delta", 1, tmp_path / "reach-joint-v0")
     with pytest.raises(DatasetError, match=r"^convert --env: unknown task 'UnifiedManip/Arm4Reach-v9'; did you mean"):
         convert(source, "joint_delta", None, env_id="UnifiedManip/Arm4Reach-v9", method="track", progress=False)
+
+
+@pytest.mark.metaworld  # Meta-World on MuJoCo 3.3.0 (CI's second leg)
+def test_a_metaworld_v1_dataset_plays_on_v2_as_the_same_episodes_with_the_joints_observed(tmp_path):
+    """v2 changed only the joint modes' observation (the robot's joints appended): a v1
+    recording converted into v2 in its own mode is the same episode, step for step, with
+    v1's observation as the first 36 numbers of v2's."""
+    source = _collect("UnifiedManip/MetaWorldReach-v1", "joint_delta", 1, tmp_path / "reach-v1-v0")
+    out = tmp_path / "reach-v2-v0"
+    report = convert(
+        source, "joint_delta", out, env_id="UnifiedManip/MetaWorldReach-v2", method="track", progress=False
+    )
+    assert [(e.replayed_by, e.kept) for e in report.episodes] == [("recorded", True)]
+    a, b = open_dataset(source), open_dataset(out)
+    assert metadata(b)["env_id"] == "UnifiedManip/MetaWorldReach-v2"
+    assert _same_episodes(a, b) == [(True, True, True, 36, 54)]
+    (ea,), (eb,) = a.iterate_episodes(), b.iterate_episodes()
+    np.testing.assert_array_equal(ea.observations["observation"], eb.observations["observation"][:, :36])

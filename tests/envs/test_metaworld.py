@@ -23,7 +23,7 @@ pytestmark = pytest.mark.metaworld  # every test here needs the metaworld extra
 
 #: The newest version of each task (version 1 differs from 0 only off native: the wrists'
 #: damping, tested below).
-IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld" and spec.version == 1]
+IDS = [tid for tid, spec in unified_manip.TASKS.items() if spec.family == "metaworld" and spec.version == 2]
 
 
 def _make(task_id: str, action_mode: str = "native", **kwargs) -> gym.Env:
@@ -41,7 +41,7 @@ def test_the_task_list_is_metaworlds_own():
     assert list(TASKS) == list(metaworld.ALL_V3_ENVIRONMENTS)
     assert [unified_manip.TASKS[tid].upstream_id for tid in IDS] == [f"metaworld:{n}" for n in TASKS]
     assert set(TASKS) <= set(ENV_POLICY_MAP)
-    assert len(IDS) == 50 and IDS[0] == "UnifiedManip/MetaWorldAssembly-v1"
+    assert len(IDS) == 50 and IDS[0] == "UnifiedManip/MetaWorldAssembly-v2"
     assert set(SAMPLED_FAMILIES["metaworld"]) <= set(IDS)
     env = _make("UnifiedManip/MetaWorldReach-v1")
     model = env.unwrapped.backend.model
@@ -254,6 +254,32 @@ def test_version_1_lets_the_wrists_outrun_the_cap_of_version_0():
         step = [env.step(np.array([1.0, 0.0, -1.0, 1.0], dtype=np.float32))[0] for env in (a, b)]
         obs.extend(step)
     np.testing.assert_array_equal(obs[-2]["observation"], obs[-1]["observation"])
+
+
+@pytest.mark.parametrize("mode", ["native", "ee_delta", "joint_delta", "joint_target_delta"])
+def test_version_2_shows_the_joint_modes_the_robots_joints_and_changes_nothing_else(mode):
+    """v2's joint modes append the 7 arm joints, the 2 finger slides and their velocities
+    to v1's vector; with the same seed and actions, everything else is v1's, bit for bit,
+    and native and the ee modes are v1 whole."""
+    v1, v2 = (_make(f"UnifiedManip/MetaWorldPickPlace-v{v}", action_mode=mode) for v in (1, 2))
+    joints = mode.startswith("joint")
+    assert v2.observation_space["observation"].shape == ((54,) if joints else (36,))
+    pairs = [(v1.reset(seed=2)[0], v2.reset(seed=2)[0], 0.0, 0.0, {}, {})]
+    rng = np.random.default_rng(0)
+    for _ in range(30):
+        action = rng.uniform(-1, 1, v1.action_space.shape).astype(np.float32)
+        (o1, r1, *_, i1), (o2, r2, *_, i2) = v1.step(action), v2.step(action)
+        pairs.append((o1, o2, r1, r2, i1, i2))
+        if joints:
+            rig = v2.unwrapped.backend.rig
+            np.testing.assert_array_equal(o2["observation"][36:43], rig.joint_positions().astype(np.float32))
+            assert np.abs(o2["observation"][45:52]).max() > 0  # the arm moves
+    for o1, o2, r1, r2, i1, i2 in pairs:
+        np.testing.assert_array_equal(o1["observation"], o2["observation"][:36])
+        for key in ("achieved_goal", "desired_goal"):
+            np.testing.assert_array_equal(o1[key], o2[key])
+        assert r1 == r2 and i1.keys() == i2.keys() and all(np.array_equal(i1[k], i2[k]) for k in i1)
+    v1.close(), v2.close()
 
 
 def test_collect_translates_the_scripted_policy_into_the_end_effector_modes():

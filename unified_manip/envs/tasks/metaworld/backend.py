@@ -66,6 +66,9 @@ class MetaWorldBackend(Backend):
         task: The task's Meta-World name, e.g. ``"door-open-v3"``.
         wrist_damping: The wrists' joint damping on the actuated copy, N m s/rad (None:
             the model's 10, version 0; :data:`.specs.WRIST_DAMPING`).
+        joint_observation: Whether the joint modes' default observation appends the robot's
+            joints (:data:`.observations.JOINT_MODE_EXTRA`; version 2 on,
+            :data:`.specs.JOINT_OBSERVATION`).
 
     Attributes:
         upstream_obs: Meta-World's observation of the last step (39: hand, gripper,
@@ -74,7 +77,12 @@ class MetaWorldBackend(Backend):
     """
 
     def __init__(
-        self, config: EnvConfig, controller: ControllerConfig, task: str, wrist_damping: float | None = None
+        self,
+        config: EnvConfig,
+        controller: ControllerConfig,
+        task: str,
+        wrist_damping: float | None = None,
+        joint_observation: bool = False,
     ) -> None:
         if config.options:
             raise TypeError(f"Meta-World tasks take no extra options, got {sorted(config.options)}")
@@ -95,6 +103,7 @@ class MetaWorldBackend(Backend):
         self.dt = up.dt
         self.action_dim = 4
         self._native = config.action_mode == "native"
+        self._joint_obs = joint_observation and controller.space == "joint"
         if not self._native:  # the other modes run on the actuated copy (.rig)
             model = actuated_model(up.model_name, wrist_damping)
             self._upstream_pair = (up.model, up.data)  # where upstream's reset moves the hand
@@ -202,10 +211,14 @@ class MetaWorldBackend(Backend):
         return obs_.GROUPS
 
     def default_observation(self) -> tuple[str, ...]:
-        return obs_.DEFAULT
+        return obs_.DEFAULT + obs_.JOINT_MODE_EXTRA if self._joint_obs else obs_.DEFAULT
 
     def observation(self) -> np.ndarray:
-        return self.upstream_obs[: obs_.OBSERVATION_SIZE].copy()
+        obs = self.upstream_obs[: obs_.OBSERVATION_SIZE]
+        if not self._joint_obs:
+            return obs.copy()
+        d, n = self.data, obs_.ROBOT_JOINTS
+        return np.concatenate((obs, d.qpos[:n], d.qvel[:n]))
 
     def achieved_goal(self) -> np.ndarray:
         return self.task.point.read(self)

@@ -12,7 +12,7 @@ from unified_manip.envs.tasks.metaworld.tasks import MetaWorldTask
 #: Steps per episode (Meta-World's ``max_path_length``) and seconds per step.
 MAX_STEPS, STEP_SECONDS = 500, 0.0125
 
-_OBSERVATION = """Observation (36,): Meta-World's own observation without its goal (the last
+_OBSERVATION = """Observation {size}: Meta-World's own observation without its goal (the last
 3 numbers, here desired_goal), so that concat(observation, desired_goal) is Meta-World's
 39-number vector with the goal shown:
     0-2    hand position (body "hand")                                m
@@ -20,7 +20,7 @@ _OBSERVATION = """Observation (36,): Meta-World's own observation without its go
     4-17   objects: position and quaternion of up to two objects      m, -
            (zeros where the task has fewer)
     18-35  the same 18 numbers of the step before (Meta-World's frame stack)
-The simulator state (``get_state``) does not hold the target or the objects' start:
+{joints}The simulator state (``get_state``) does not hold the target or the objects' start:
 Meta-World keeps them in the env and the model, which pickling keeps."""
 
 _INFO = """Info adds ``native_success`` (Meta-World's own ``success``, 1.0/0.0) and
@@ -55,15 +55,24 @@ def _lists(task: MetaWorldTask) -> str:
 list in place of its IDs: {names}."""
 
 
+_JOINTS = """In the joint modes, as on Fetch, the robot's joints follow:
+    36-44  the 7 arm joints (right_j0 to right_j6), the 2 finger slides  rad, m
+    45-53  their velocities                                           rad/s, m/s
+"""
+
 _HISTORY = """Version history: v0 initial (over Meta-World 3.1.1, MuJoCo 3.3.0). v1: in the joint and
 end-effector modes, the wrists' (right_j4 to right_j6) joint damping is 1 N m s/rad, not
 the model's 10: with the 9 N m limit, 10 held a wrist to 0.9 rad/s, so the hand left the
-line the IK planned on fast moves. native is unchanged."""
+line the IK planned on fast moves. native is unchanged. v2: the joint modes observe the
+robot's joints and their velocities (18 more numbers), as Fetch's joint modes do; v1's
+joint-mode policies saw only the hand, so the arm's posture was hidden from them. The
+other modes are unchanged."""
 
 
-def task_doc(task: MetaWorldTask, wrist_damping: float | None) -> str:
+def task_doc(task: MetaWorldTask, wrist_damping: float | None, joint_observation: bool) -> str:
     """The page of one task whose version damps the wrists with ``wrist_damping`` N m s/rad
-    (None: the model's, as every other arm joint)."""
+    (None: the model's, as every other arm joint) and, with ``joint_observation``, shows
+    the joint modes the robot's joints."""
     damping = (
         "10 N m s/rad (the model's)"
         if wrist_damping is None
@@ -75,6 +84,10 @@ def task_doc(task: MetaWorldTask, wrist_damping: float | None) -> str:
         else f"Success differs from Meta-World's own (info native_success): {task.note}."
     )
     terms = GRIPPER_TERM_SETS[task.terms]
+    observation = _OBSERVATION.format(
+        size="(36,), and (54,) in the joint modes (below)" if joint_observation else "(36,)",
+        joints=_JOINTS if joint_observation else "",
+    )
     return f"""{task.name}: Meta-World's {task.env_name} (Farama Meta-World 3.1.1), as a goal task
 on its Sawyer arm with a two-finger gripper.
 
@@ -86,7 +99,7 @@ Goal (3,): achieved = {task.what}, desired = {_desired(task)}, m.
 Goal distance = {task.distance.describe()} < {task.threshold:g}. {success}
 Sparse reward = success - 1. {MAX_STEPS} steps of {STEP_SECONDS * 1000:g} ms.
 
-{_OBSERVATION}
+{observation}
 
 Action modes (native: Meta-World's (dx, dy, dz, gripper); the end-effector modes: (dx, dy,
 dz, gripper); the joint modes: one entry per arm joint, right_j0 to right_j6, then the

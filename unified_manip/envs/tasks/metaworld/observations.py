@@ -4,7 +4,9 @@ the task's :class:`~unified_manip.envs.tasks.metaworld.backend.MetaWorldBackend`
 The default vector is Meta-World's own observation without its last three entries, the
 goal (which comes as ``desired_goal``; Meta-World's multi-task benchmarks show it, its
 meta-learning ones zero it): ``[hand, gripper, objects]`` of this step and of the last,
-36 numbers, so that ``concat(observation, desired_goal)`` is Meta-World's 39.
+36 numbers, so that ``concat(observation, desired_goal)`` is Meta-World's 39. From
+version 2 on, the joint modes' vector also holds the robot's joints and their velocities
+(:data:`JOINT_MODE_EXTRA`), as Fetch's does: a policy that commands joints sees them.
 """
 
 from __future__ import annotations
@@ -49,6 +51,10 @@ GROUPS: dict[str, G] = {
 
 #: The groups of the default vector: Meta-World's observation without the goal.
 DEFAULT = ("ee_pos", "gripper", "object_pose", "previous")
+
+#: What the joint modes' default vector appends from version 2 on: the 7 arm joints and the
+#: 2 finger slides, then their velocities (18).
+JOINT_MODE_EXTRA = ("joint_pos", "joint_vel")
 
 
 def quantities(b) -> dict[str, float]:

@@ -16,7 +16,11 @@ from unified_manip.envs.tasks.metaworld.tasks import TASKS
 #: :mod:`.rig`). At 1, a wrist's 9 N m reaches 9 rad/s, above the Sawyer's rated
 #: 3.49-4.55 rad/s. Version 1 changes only the joint and end-effector modes: native never
 #: uses the copy.
-WRIST_DAMPING = {0: None, 1: 1.0}
+WRIST_DAMPING = {0: None, 1: 1.0, 2: 1.0}
+
+#: The versions whose joint modes observe the robot's joints (:data:`.observations.JOINT_MODE_EXTRA`,
+#: as Fetch's do). Version 2 changes only the joint modes' observation.
+JOINT_OBSERVATION = {0: False, 1: False, 2: True}
 
 _BACKEND = "unified_manip.envs.tasks.metaworld.backend:MetaWorldBackend"
 
@@ -32,12 +36,12 @@ SPECS: tuple[TaskSpec, ...] = tuple(
         version=version,
         family="metaworld",
         terms=GRIPPER_TERM_SETS[task.terms],
-        make_backend=lazy(_BACKEND, task=env_name, wrist_damping=damping),
+        make_backend=lazy(_BACKEND, task=env_name, wrist_damping=damping, joint_observation=JOINT_OBSERVATION[version]),
         controllers=CONTROLLERS,
         goal_dim=3,
         max_episode_steps=MAX_STEPS,
         distance_threshold=task.threshold,
-        doc=task_doc(task, damping),
+        doc=task_doc(task, damping, JOINT_OBSERVATION[version]),
         goal_distance=task.distance,
         scripted_policy=MetaWorldPolicy(env_name),
         scripted_episodes=SCRIPTED_EPISODES,
