@@ -356,6 +356,10 @@ def test_cell_overrides_set_one_cells_runs_after_the_algorithms_overrides(tmp_pa
         ([{"action_mode": "joint_delta"}], "cell_overrides must be a list of mappings with 'set'"),
         ([{"mode": "joint_delta", "set": ["demonstrations=0"]}], "unknown key 'mode' in cell_overrides"),
         ([{"action_mode": "joint_delta", "set": ["warp=9"]}], "unknown hyperparameter 'warp' in --set 'warp=9'"),
+        (  # a task the grid does not run (another version of it): the setting would be lost
+            [{"task": "UnifiedManip/Arm4Reach-v9", "set": ["demonstrations=0"]}],
+            "cell_overrides entry {'task': 'UnifiedManip/Arm4Reach-v9'} matches no run of the grid",
+        ),
     ]:
         with pytest.raises(GridError) as err:
             load_grid(write_grid(tmp_path, {**doc, "cell_overrides": bad}))
@@ -477,7 +481,7 @@ def test_the_mt10_grid_runs_without_demonstrations_exactly_where_its_datasets_ta
     assert (
         _without_demonstrations(doc)
         == none
-        == {("MetaWorldDoorOpen-v1", "native"), ("MetaWorldPegInsertSide-v1", "joint_delta")}
+        == {("MetaWorldDoorOpen-v2", "native"), ("MetaWorldPegInsertSide-v2", "joint_delta")}
     )
 
 

@@ -192,6 +192,7 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
             _check_cell_keys(path, entry, "only", "")
     cell_overrides = _cell_overrides(path, doc.get("cell_overrides", []))
     runs = []
+    used: set[int] = set()  # the cell_overrides entries that match a run
     checked: set[tuple[str, str]] = set()
     for t, r, a, s, o, z in itertools.product(tasks, rewards, algos, seeds, observations, randomizations):
         for m in TASKS[t].action_modes if modes_value == "all" else modes:
@@ -199,7 +200,9 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
             if only is not None and not any(_matches(combo, e) for e in only):
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
-            sets += tuple(v for cell, values in cell_overrides if _matches(combo, cell) for v in values)
+            matching = [i for i, (cell, _) in enumerate(cell_overrides) if _matches(combo, cell)]
+            used.update(matching)
+            sets += tuple(v for i in matching for v in cell_overrides[i][1])
             kwargs = {**env_kwargs, **o, **({"randomization": z} if z != "none" and "randomizations" in doc else {})}
             try:  # every hyperparameter override is checked before anything starts
                 resolved = resolve_run(a, t, sets, action_mode=m)
@@ -221,6 +224,11 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
             runs.append(RunSpec(t, m, r, a, s, steps[t], sets, n_envs[a], kwargs, design_label(kwargs), z))
     if not runs:
         raise GridError(f"{path}: the grid selects no runs")
+    unused = [cell for i, (cell, _) in enumerate(cell_overrides) if i not in used]
+    if unused:
+        raise GridError(
+            f"{path}: cell_overrides entry {unused[0]} matches no run of the grid (its tasks: {', '.join(tasks)})"
+        )
     return Grid(name, tuple(runs), doc)
 
 
