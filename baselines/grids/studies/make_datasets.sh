@@ -3,14 +3,14 @@
 # (EPISODES, default 100; issue 39's cloning study uses 25, 100 and 400), converted into
 # every other mode with `unified-manip convert`. Resumable: a dataset that
 # exists is skipped (collect and convert publish under a temporary name, then rename).
-# MODES (default: every other mode) names the modes to convert into. COLLECT names modes to
+# MODES (unset: every other mode; set empty: none) names the modes to convert into. COLLECT names modes to
 # record directly instead, the scripted policy in that mode (Meta-World's native: its own
 # controller, which convert cannot drive), from the same seed.
 # Usage: make_datasets.sh TASK...   (run from a checkout with its .venv; ROOT defaults to ./data, the grid reads data/{task}/{action_mode}-v0)
 set -u
 ROOT=${ROOT:-data}
 EPISODES=${EPISODES:-100}
-MODES=${MODES:-joint_torque joint_position joint_delta joint_target_delta joint_velocity ee_target_delta native}
+MODES=${MODES-joint_torque joint_position joint_delta joint_target_delta joint_velocity ee_target_delta native}
 COLLECT=${COLLECT:-}
 export OMP_NUM_THREADS=1 MUJOCO_GL=egl MINARI_DATASETS_PATH=$ROOT
 UM=${UM:-.venv/bin/unified-manip}
