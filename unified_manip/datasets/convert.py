@@ -136,8 +136,9 @@ def convert(
     try:
         task = _task(env_id or meta["env_id"])
     except ValueError as err:
+        if env_id is None:
+            raise
         raise DatasetError(f"convert --env: {err}") from None
-    spec = gym.spec(task.id)
     source_mode = meta["env_kwargs"].get("action_mode")
     try:
         task.check_choices(action_mode, meta["env_kwargs"].get("reward_type", "sparse"))
@@ -154,8 +155,8 @@ def convert(
         kwargs.pop("observation", None)
         if observation != "default":
             kwargs["observation"] = observation
-    target = gym.make(spec.id, **kwargs)
-    probe = gym.make(spec.id, **kwargs) if method == "search" else None
+    target = gym.make(task.id, **kwargs)
+    probe = gym.make(task.id, **kwargs) if method == "search" else None
     try:
         ways = steppers(task, target, probe, source_mode, method, search)
         indices = dataset.episode_indices[:first]
@@ -185,7 +186,7 @@ def convert(
         kept = kept[:keep]
         if out is not None and kept:
             published = {
-                "env_id": spec.id,
+                "env_id": task.id,
                 "env_kwargs": kwargs,
                 "policy": "convert",
                 "source": f"{path} ({source_mode}, policy {meta['policy']})",
