@@ -191,10 +191,10 @@ def test_the_recorded_page_spaces_are_the_live_envs():
     by_version: dict[int, list[str]] = {}
     for tid in every:
         by_version.setdefault(unified_manip.TASKS[tid].version, []).append(tid)
-    for version, ids in sorted(by_version.items()):  # a version's IDs share their spaces; one is measured
+    for task_version, ids in sorted(by_version.items()):  # a version's IDs share their spaces; one is measured
         task_id = next((t for t in SAMPLED_FAMILIES["metaworld"] if t in ids), ids[0])
         assert taskspaces.measure(task_id) == record["tasks"][task_id], task_id
-        assert all(record["tasks"][t] == record["tasks"][task_id] for t in ids), version
+        assert all(record["tasks"][t] == record["tasks"][task_id] for t in ids), task_version
 
 
 def test_collect_plays_the_scripted_policy_in_native():

@@ -15,6 +15,7 @@ import yaml
 from conftest import COMMITTED_GRIDS, extra_marks, interrupt_after_first_checkpoint, resume_to_the_end
 from test_pretrain import _request as demonstrated_request
 
+from unified_manip.envs.task_lists import expand_task_lists
 from unified_manip.experiments.grid import GridError, load_grid
 from unified_manip.experiments.report import _demonstrations_line, build_report
 from unified_manip.experiments.report import _demonstrations_lines as report_demonstration_lines
@@ -170,7 +171,7 @@ def _grids(paths: list[Path], name) -> list:
     builds one backend of each of its tasks (``check_design``)."""
     params = []
     for path in paths:
-        tasks = yaml.safe_load(path.read_text()).get("tasks") or []
+        tasks = expand_task_lists(yaml.safe_load(path.read_text()).get("tasks") or [])  # metaworld:MT10
         marks = {m.name: m for t in tasks for m in extra_marks(t)}
         params.append(pytest.param(path, marks=list(marks.values()), id=name(path)))
     return params
