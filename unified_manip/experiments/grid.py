@@ -13,6 +13,7 @@ from unified_manip.envs.design_names import design_label
 from unified_manip.envs.registry import TASKS, get_task
 from unified_manip.envs.rewards import validate_reward_type
 from unified_manip.envs.task_lists import expand_task_lists
+from unified_manip.experiments.cells import in_cell, parse_cell_overrides, parse_only_cells
 from unified_manip.experiments.designs import check_design, parse_designs
 from unified_manip.experiments.randomizations import check_randomization, grid_randomizations
 from unified_manip.experiments.selection import matches, parse_only
@@ -37,7 +38,6 @@ OPTIONAL = (
     "randomizations",
     "cell_overrides",
 )
-ONLY_KEYS = ("task", "action_mode", "reward_type", "algo")
 
 
 class GridError(ValueError):
@@ -81,33 +81,6 @@ def _list(path: Path, doc: dict, key: str, kind: type) -> list:
     ):
         raise GridError(f"{path}: grid key {key!r} must be a non-empty list of {kind.__name__}, got {value!r}")
     return value
-
-
-def _matches(combo: dict[str, str], cell: dict[str, Any]) -> bool:
-    return all(combo[k] == v for k, v in cell.items())
-
-
-def _check_cell_keys(path: Path, cell: dict[str, Any], where: str, more: str) -> None:
-    bad = [k for k in cell if k not in ONLY_KEYS]
-    if bad:
-        raise GridError(f"{path}: unknown key {bad[0]!r} in {where}; expected {', '.join(ONLY_KEYS)}{more}")
-
-
-def _cell_overrides(path: Path, entries: Any) -> list[tuple[dict[str, Any], list[str]]]:
-    """``cell_overrides``: ``[{task: ..., action_mode: ..., set: [key=value, ...]}, ...]``, settings
-    for the runs whose keys (from ``only``'s) match, applied after ``overrides``."""
-    shape = f"a list of mappings with 'set' (a list of key=value strings) and keys from {', '.join(ONLY_KEYS)}"
-    if not isinstance(entries, list):
-        raise GridError(f"{path}: cell_overrides must be {shape}")
-    out = []
-    for entry in entries:
-        values = entry.get("set") if isinstance(entry, dict) else None
-        if not isinstance(values, list) or not all(isinstance(v, str) for v in values):
-            raise GridError(f"{path}: cell_overrides must be {shape}, got {entry!r}")
-        cell = {k: v for k, v in entry.items() if k != "set"}
-        _check_cell_keys(path, cell, "cell_overrides", " and set")
-        out.append((cell, values))
-    return out
 
 
 def load_grid(path: Path, *, datasets: bool = True) -> Grid:
@@ -184,23 +157,21 @@ def load_grid(path: Path, *, datasets: bool = True) -> Grid:
         randomizations = grid_randomizations(doc, env_kwargs)
     except ValueError as err:
         raise GridError(f"{path}: {err}") from None
-    only = doc.get("only")
-    if only is not None:
-        if not isinstance(only, list) or not only or not all(isinstance(e, dict) and e for e in only):
-            raise GridError(f"{path}: only must be a non-empty list of mappings with keys from {', '.join(ONLY_KEYS)}")
-        for entry in only:
-            _check_cell_keys(path, entry, "only", "")
-    cell_overrides = _cell_overrides(path, doc.get("cell_overrides", []))
+    try:
+        only = parse_only_cells(doc.get("only"))
+        cell_overrides = parse_cell_overrides(doc.get("cell_overrides", []))
+    except ValueError as err:
+        raise GridError(f"{path}: {err}") from None
     runs = []
     used: set[int] = set()  # the cell_overrides entries that match a run
     checked: set[tuple[str, str]] = set()
     for t, r, a, s, o, z in itertools.product(tasks, rewards, algos, seeds, observations, randomizations):
         for m in TASKS[t].action_modes if modes_value == "all" else modes:
             combo = {"task": t, "action_mode": m, "reward_type": r, "algo": a}
-            if only is not None and not any(_matches(combo, e) for e in only):
+            if only is not None and not any(in_cell(combo, e) for e in only):
                 continue
             sets = tuple(run_settings + list(overrides.get(a, [])))
-            matching = [i for i, (cell, _) in enumerate(cell_overrides) if _matches(combo, cell)]
+            matching = [i for i, (cell, _) in enumerate(cell_overrides) if in_cell(combo, cell)]
             used.update(matching)
             sets += tuple(v for i in matching for v in cell_overrides[i][1])
             kwargs = {**env_kwargs, **o, **({"randomization": z} if z != "none" and "randomizations" in doc else {})}
