@@ -203,13 +203,16 @@ def register_task(spec: TaskSpec) -> TaskSpec:
 
 
 def get_task(task_id: str) -> TaskSpec:
-    """Look up a task by ID, with an error that names the closest IDs, if any, and lists
-    the valid ones."""
+    """Look up a task by ID, with an error that names the closest IDs, or else lists the
+    valid ones."""
     try:
         return TASKS[task_id]
     except KeyError:
         names = {tid.split("/", 1)[-1]: tid for tid in TASKS}  # the namespace would match everything
         close = [names[n] for n in difflib.get_close_matches(str(task_id).split("/", 1)[-1], names, n=3, cutoff=0.8)]
-        hint = f"; did you mean {' or '.join(close)}?" if close else ""
+        if close:  # a misspelling: its matches, not every ID (hundreds)
+            choices = f"; did you mean {' or '.join(close)}? (unified-manip list names all {len(TASKS)} IDs)"
+        else:
+            choices = f"; expected one of {', '.join(TASKS)}"
         failed = "".join(f"; {line}" for line in PLUGIN_FAILURES)
-        raise ValueError(f"unknown task {task_id!r}{hint}; expected one of {', '.join(TASKS)}{failed}") from None
+        raise ValueError(f"unknown task {task_id!r}{choices}{failed}") from None
