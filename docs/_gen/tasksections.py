@@ -17,7 +17,7 @@ from unified_manip.envs.controllers import configs as ctl
 
 ROOT = Path(__file__).resolve().parents[2]
 #: The committed experiments that make up the benchmark page, in its order.
-BENCHMARKS = ("benchmark", "benchmark_arm", "benchmark_robosuite")
+BENCHMARKS = ("benchmark", "benchmark_arm", "benchmark_robosuite", "benchmark_breadth_robosuite")
 #: Where ``EnvConfig`` is documented, from a task page.
 ENV_CONFIG_API = "../reference/api/envs.md#unified_manip.envs.config.EnvConfig"
 REWARD_CONFIG_API = "../reference/api/rewards.md#unified_manip.envs.rewards.RewardConfig"
