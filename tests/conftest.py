@@ -50,11 +50,21 @@ COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.
 #: - The kitchen: its 40-substep steps make each mode's cases cost seconds. Its sample is
 #:   upstream's controller (native) and one mode on its actuated copy (ee_delta: the rig,
 #:   the model copy and mink); its joint modes are the shared controllers other families test.
+#: - robosuite's one-arm IDs all put the same Panda on the same controllers, as Fetch's four
+#:   IDs put the same Fetch on theirs; they differ in their objects, terms and upstream
+#:   env. One ID of each runs every mode (Lift, FetchPickAndPlace: an object carried); the
+#:   others run upstream's controller (native) and mink's (ee_delta), which exercise their
+#:   own terms and models. With every mode on every such ID, .ci/run took 34 min in all.
 #: - The two-arm robosuite IDs drive two arms' controllers (two IKs in the ee modes): one
 #:   mode's contracts took ~17 s on the loaded 2-core machine. The sample holds one mode of
 #:   each kind of controller on two arms: ee (PerRig of two IKs) and joint.
-SAMPLED_MODES: dict[str, tuple[str, ...]] = {
+#: ``None`` is every mode (an ID's entry over its family's sample).
+SAMPLED_MODES: dict[str, tuple[str, ...] | None] = {
     "kitchen": ("native", "ee_delta"),
+    "robosuite": ("native", "ee_delta"),
+    "UnifiedManip/Lift-v0": None,
+    "fetch": ("native", "ee_delta"),
+    "UnifiedManip/FetchPickAndPlace-v0": None,
     "UnifiedManip/TwoArmLift-v0": ("ee_delta",),
     "UnifiedManip/TwoArmHandover-v0": ("joint_position",),
 }
@@ -62,7 +72,7 @@ SAMPLED_MODES: dict[str, tuple[str, ...]] = {
 
 def _modes(task_id: str) -> tuple[str, ...]:
     spec = unified_manip.TASKS[task_id]
-    sample = SAMPLED_MODES.get(task_id, SAMPLED_MODES.get(spec.family))
+    sample = SAMPLED_MODES[task_id] if task_id in SAMPLED_MODES else SAMPLED_MODES.get(spec.family)
     return tuple(m for m in spec.action_modes if sample is None or m in sample)
 
 
