@@ -13,7 +13,7 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
-from conftest import ALL_IDS, ID_MODE_REWARDS, ID_MODES, make, random_actions, rollout, smoke_mode
+from conftest import ALL_IDS, ID_MODE_REWARDS, ID_MODES, SAMPLED_MODES, make, random_actions, rollout, smoke_mode
 from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
@@ -369,6 +369,21 @@ def test_bad_action_shape_and_values(pair):
     fresh.reset(seed=0)
     a = np.full(n, 5.0, np.float32)  # out of range: clipped, not an error
     _assert_same(env.step(a), fresh.step(np.ones(n, np.float32)))
+
+
+def test_the_sampled_modes_name_registered_ids_families_and_modes():
+    """A misspelt key or mode in conftest's sample would quietly test fewer modes."""
+    families = {spec.family for spec in unified_manip.TASKS.values()}
+    for key, sample in SAMPLED_MODES.items():
+        assert key in unified_manip.TASKS or key in families, key
+        ids = [t for t, s in unified_manip.TASKS.items() if key in (t, s.family)]
+        modes = {m for t in ids for m in unified_manip.TASKS[t].action_modes}
+        assert sample is None or set(sample) <= modes, (key, sample)
+    # Every family keeps one ID in every mode in the suites, but the kitchen (one ID, slow
+    # steps: tests/conftest.py says why).
+    for family in families - {"kitchen"}:
+        ids = [t for t in ALL_IDS if unified_manip.TASKS[t].family == family]
+        assert any({m for i, m in ID_MODES if i == t} == set(unified_manip.TASKS[t].action_modes) for t in ids), family
 
 
 def test_unknown_action_mode_and_reward_type():
