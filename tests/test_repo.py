@@ -29,6 +29,13 @@ def test_ci_runs_the_readme_test_commands():
         '-m "(golden or metaworld or not slow) and not robosuite" tests/envs tests/datasets tests/training'
         in commands[1]
     )
+    # The docs' testing page gives the same two commands.
+    page = (ROOT / "docs" / "reference" / "testing.md").read_text()
+    block = re.search(r"```bash\n(.*?)```", page, re.S).group(1)
+    assert [line.strip() for line in block.splitlines() if "pytest" in line] == commands
+    # The tests' own processes reuse the bytecode they compile: the installs skip compiling.
+    first_install = next(i for i, line in enumerate(ci) if line.startswith("pip install"))
+    assert "unset PYTHONDONTWRITEBYTECODE" in ci[:first_install]
 
 
 def test_no_test_can_skip_on_a_missing_package():
