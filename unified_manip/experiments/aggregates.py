@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from unified_manip.experiments.stats import CONFIDENCE, seeded_global_numpy
+from unified_manip.experiments.stats import CONFIDENCE, iqm, score_distributions, seeded_global_numpy
 from unified_manip.experiments.targets import steps_to
 
 #: Success a run must reach for the "steps to" sample-efficiency column.
@@ -129,11 +129,10 @@ def iqm_intervals(scores: dict[str, np.ndarray], seed: int = SEED) -> dict[str, 
     """``mode -> (IQM, low, high)``: rliable's interquartile mean over all runs and tasks,
     with its 95% stratified-bootstrap interval."""
     from rliable import library as rly
-    from rliable import metrics
 
     with seeded_global_numpy(seed):
         point, interval = rly.get_interval_estimates(
-            scores, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=REPS, confidence_interval_size=CONFIDENCE
+            scores, lambda s: np.array([iqm(s)]), reps=REPS, confidence_interval_size=CONFIDENCE
         )
     return {m: (float(point[m][0]), float(interval[m][0, 0]), float(interval[m][1, 0])) for m in scores}
 
@@ -146,7 +145,9 @@ def performance_profiles(
     from rliable import library as rly
 
     with seeded_global_numpy(seed):
-        return rly.create_performance_profile(scores, taus, reps=REPS, confidence_interval_size=CONFIDENCE)
+        return rly.create_performance_profile(
+            scores, taus, custom_profile_func=score_distributions, reps=REPS, confidence_interval_size=CONFIDENCE
+        )
 
 
 def probability_of_improvement(x: np.ndarray, y: np.ndarray) -> float:

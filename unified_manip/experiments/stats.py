@@ -76,12 +76,27 @@ def iqm_with_ci(values: list[float], seed: int = 0) -> tuple[float, float, float
     if len(values) < MIN_SEEDS_FOR_CI:
         return None
     from rliable import library as rly
-    from rliable import metrics
 
     with seeded_global_numpy(seed):  # rliable draws from numpy's global generator
         scores = {"x": np.asarray(values, dtype=float).reshape(-1, 1)}
-        point, interval = rly.get_interval_estimates(scores, lambda s: np.array([metrics.aggregate_iqm(s)]), reps=2000)
+        point, interval = rly.get_interval_estimates(scores, lambda s: np.array([iqm(s)]), reps=2000)
     return float(point["x"][0]), float(interval["x"][0, 0]), float(interval["x"][1, 0])
+
+
+def iqm(scores: np.ndarray) -> float:
+    """rliable's ``metrics.aggregate_iqm``, the 25% trimmed mean of all scores, by the same
+    numpy calls as scipy's ``trim_mean`` (so the same bits) without scipy's per-call
+    dispatch, which cost 1 ms of each bootstrap resample."""
+    flat = np.ravel(scores)
+    low = int(0.25 * flat.size)
+    high = flat.size - low
+    return float(np.mean(np.partition(flat, (low, high - 1))[low:high]))
+
+
+def score_distributions(scores: np.ndarray, taus: np.ndarray) -> np.ndarray:
+    """rliable's ``score_distributions``: the fraction of all scores above each tau, in one
+    comparison instead of rliable's ``np.vectorize`` loop over the taus (about 50x faster)."""
+    return np.mean(np.ravel(scores)[None, :] > np.asarray(taus)[:, None], axis=1)
 
 
 @contextmanager
