@@ -54,8 +54,9 @@ COMMITTED_GRIDS = sorted(p for p in GRIDS.rglob("*.yaml") if "studies" not in p.
 #:   IDs put the same Fetch on theirs; they differ in their objects, terms and upstream
 #:   env. One ID of each runs every mode (Lift, FetchPickAndPlace: an object carried); the
 #:   others run upstream's controller (native) and mink's (ee_delta), which exercise their
-#:   own terms and models. The sample halved the golden replays (97 s to 55 s a part);
-#:   leg 1 of .ci/run stayed at about 28 min, run to run.
+#:   own terms and models. The sample halved the golden replays (97 s to 55 s a part).
+#:   Most of CI's time had another cause: test processes recompiling their imports (see
+#:   the top of .ci/run).
 #: - The two-arm robosuite IDs drive two arms' controllers (two IKs in the ee modes): one
 #:   mode's contracts took ~17 s on the loaded 2-core machine. The sample holds one mode of
 #:   each kind of controller on two arms: ee (PerRig of two IKs) and joint.

@@ -6,7 +6,9 @@
   percentile bootstrap over 3 values returns about their minimum and maximum, so calling
   it a 95% CI would overstate what 3 seeds say;
 * :func:`iqm_with_ci`: rliable's interquartile mean and its stratified-bootstrap interval;
-* :func:`probability_of_improvement`: rliable's P(X > Y).
+* :func:`probability_of_improvement`: rliable's P(X > Y);
+* :func:`iqm` and :func:`score_distributions`: rliable's statistics in plain numpy, to
+  the bit, for the bootstraps that call them thousands of times.
 """
 
 from __future__ import annotations
