@@ -106,6 +106,18 @@ def test_a_dataset_of_another_task_mode_design_or_reward_is_refused(dataset, tas
     assert "\n" not in str(err.value)
 
 
+def test_a_dataset_with_fewer_episodes_than_envs_is_refused_before_the_run(dataset):
+    """A prefill gives each env one episode at least: ``train`` and a grid's loading refuse
+    a run of more envs than the dataset has episodes, before anything starts."""
+    assert dataset_demonstrations.check(str(dataset), ARM, SPARSE, N_ENVS)
+    with pytest.raises(DemonstrationError) as err:
+        dataset_demonstrations.check(str(dataset), ARM, SPARSE, N_ENVS + 1)
+    assert str(err.value) == (
+        f"demonstrations: {dataset} holds 3 episodes, fewer than the run's 4 envs (a prefill gives each env one "
+        "at least); train with n_envs of at most 3, or without them (demonstrations=0)"
+    )
+
+
 def test_nominal_episodes_suit_a_run_under_a_preset_only(dataset):
     """The nominal world is one every preset draws (their ranges hold the nominal values);
     a list of terms need not hold it, and a run's other env keywords must still match."""
@@ -178,3 +190,14 @@ def test_a_dataset_path_names_each_task_and_mode():
 
     path = dataset_path("data/{task}/{action_mode}-v0", "UnifiedManip/Lift-v0", {"action_mode": "joint_delta"})
     assert path == "data/Lift-v0/joint_delta-v0"
+
+
+def test_the_cli_refuses_more_envs_than_demonstrated_episodes(dataset, tmp_path):
+    proc = cli(
+        "train", "--env", ARM, "--algo", "tqc_her", "--action-mode", "ee_delta", "--steps", "10",
+        "--n-envs", "4", "--demonstrations", str(dataset), "--run-dir", str(tmp_path / "r"), check=False,
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1
+    assert "holds 3 episodes, fewer than the run's 4 envs" in proc.stderr
+    assert not (tmp_path / "r").exists()

@@ -52,16 +52,29 @@ def _converted_name(path: str, mode: str) -> str:
     return str(p.with_name(f"{stem}-{mode}-v0"))
 
 
-def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]:
+def _whole_rounds(total: int, n_envs: int, path: str) -> int:
+    """The episodes a prefill with ``n_envs`` envs takes from ``total``: whole rounds, one
+    episode per env; none is an error."""
+    used = total - total % n_envs
+    if used == 0:
+        raise DemonstrationError(
+            f"demonstrations: {path} holds {total} episodes, fewer than the run's {n_envs} envs (a prefill gives "
+            f"each env one at least); train with n_envs of at most {total}, or without them (demonstrations=0)"
+        )
+    return used
+
+
+def check(path: str, task_id: str, env_config: dict[str, Any], n_envs: int = 1) -> dict[str, Any]:
     """Raise :class:`DemonstrationError` unless the dataset at ``path`` was recorded on
     ``task_id`` with the env keyword arguments ``env_config`` (the run's ``action_mode``,
-    ``reward_type`` and extras); return its metadata (``unified_manip``'s). ``path`` may
-    hold ``{task}`` and ``{action_mode}`` (:func:`dataset_path`)."""
+    ``reward_type`` and extras) and holds an episode for each of the run's ``n_envs``
+    envs; return its metadata (``unified_manip``'s). ``path`` may hold ``{task}`` and
+    ``{action_mode}`` (:func:`dataset_path`)."""
     from unified_manip.envs.design_names import observation_label
     from unified_manip.envs.randomization import randomization_label
 
     path = dataset_path(path, task_id, env_config)
-    _, meta = _dataset(path)
+    dataset, meta = _dataset(path)
     if meta["env_id"] != task_id:
         raise DemonstrationError(
             f"demonstrations: {path} holds episodes of {meta['env_id']}, not of {task_id}; record them with "
@@ -98,6 +111,7 @@ def check(path: str, task_id: str, env_config: dict[str, Any]) -> dict[str, Any]
     if differ:
         shown = ", ".join(f"{k} {recorded.get(k)!r} (recorded) vs {wanted.get(k)!r} (run)" for k in differ)
         raise DemonstrationError(f"demonstrations: {path} was recorded with other env keyword arguments: {shown}")
+    _whole_rounds(dataset.total_episodes, n_envs, path)
     return meta
 
 
@@ -114,11 +128,7 @@ def prefill(model, path: str, task_id: str, env_config: dict[str, Any]) -> dict[
     buffer = model.replay_buffer
     n_envs = buffer.n_envs
     total = dataset.total_episodes
-    used = total - total % n_envs
-    if used == 0:
-        raise DemonstrationError(
-            f"demonstrations: {path} holds {total} episodes, fewer than the run's {n_envs} envs (one each at least)"
-        )
+    used = _whole_rounds(total, n_envs, path)
     episodes = list(dataset.iterate_episodes(dataset.episode_indices[:used]))
     rows = sum(len(ep.actions) for ep in episodes[::n_envs])
     if rows > buffer.buffer_size:

@@ -66,7 +66,8 @@ def check_settings(
     if isinstance(episodes, str) and datasets:
         from unified_manip.training.dataset_demonstrations import check as check_dataset
 
-        check_dataset(episodes, task_id, env_config or {"action_mode": action_mode, "reward_type": "sparse"})
+        config = env_config or {"action_mode": action_mode, "reward_type": "sparse"}
+        check_dataset(episodes, task_id, config, run.n_envs)
     check(run.demos.bc_steps, episodes)
     check_offline(run.offline.offline_steps, episodes)
     loss = run.cloning_loss
