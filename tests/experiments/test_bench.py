@@ -463,10 +463,11 @@ def test_the_mt10_study_grid_states_its_protocol():
     assert "COLLECT=${COLLECT:-}" in (study / "make_datasets.sh").read_text()  # native: recorded, not converted
 
 
-def test_the_mt10_grid_runs_without_demonstrations_exactly_where_its_datasets_table_has_none():
-    """A cell whose dataset was never written must not name it (the grid would refuse to
-    start), and one that has a dataset must use it: the grid's ``demonstrations=0`` cells
-    are the "none" cells of ``action_spaces_mt10_datasets.md``."""
+def test_the_mt10_grid_runs_without_demonstrations_exactly_where_its_datasets_cannot_fill_a_round():
+    """A cell whose dataset was never written, or holds fewer episodes than the grid's
+    envs, must not name it (the grid would refuse to start), and one whose dataset gives
+    each env an episode must use it: the grid's ``demonstrations=0`` cells are the "none"
+    cells of ``action_spaces_mt10_datasets.md`` and those under ``n_envs`` episodes."""
     study = ROOT / "baselines" / "grids" / "studies"
     doc = yaml.safe_load((study / "action_spaces_mt10.yaml").read_text())
     lines = [
@@ -476,12 +477,20 @@ def test_the_mt10_grid_runs_without_demonstrations_exactly_where_its_datasets_ta
     none = set()
     for line in lines[1:]:
         task, *cells = (c.strip() for c in line.strip("|").split("|"))
-        none |= {(task, mode) for mode, cell in zip(modes, cells, strict=True) if cell.startswith("none")}
+        none |= {
+            (task, mode)
+            for mode, cell in zip(modes, cells, strict=True)
+            if cell.startswith("none") or int(cell.split()[0]) < doc["n_envs"]
+        }
     assert len(lines) == 11 and sorted(modes) == sorted(doc["action_modes"])  # header and ten tasks
     assert (
         _without_demonstrations(doc)
         == none
-        == {("MetaWorldDoorOpen-v2", "native"), ("MetaWorldPegInsertSide-v2", "joint_delta")}
+        == {
+            ("MetaWorldDoorOpen-v2", "native"),
+            ("MetaWorldPegInsertSide-v2", "joint_delta"),
+            ("MetaWorldDrawerOpen-v2", "joint_delta"),
+        }
     )
 
 
