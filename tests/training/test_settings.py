@@ -332,6 +332,20 @@ def test_every_committed_result_still_reports_and_plots(results, tmp_path):
     assert titles and (tmp_path / "overview.png").stat().st_size > 0
 
 
+@pytest.mark.parametrize("results", COMMITTED, ids=lambda p: p.parent.name)
+def test_every_committed_report_shows_its_commands_as_they_are(results):
+    """A report quotes its bench's ``command.txt`` ("Runs:"); a line added to the file
+    after the report was written must reach the report too (``unified-manip report``)."""
+    command = results.parent / "command.txt"
+    report = (results.parent / "report" / "report.md").read_text()
+    quoted = re.search(r"^Runs:\n\n```bash\n(.*?)\n```$", report, re.S | re.M)
+    if not command.is_file():
+        assert not quoted, f"{results.parent.name}: the report quotes a command.txt that is gone"
+        return
+    assert quoted, f"{results.parent.name}: the report does not quote command.txt; run unified-manip report again"
+    assert quoted.group(1) == command.read_text().strip(), f"{results.parent.name}: run unified-manip report again"
+
+
 def test_the_committed_results_are_all_found():
     assert len(COMMITTED) >= 21  # the 21 studies committed before RunConfig, and any since
 
