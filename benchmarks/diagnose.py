@@ -13,8 +13,13 @@ rather than guessed. For each run directory this reports:
   success; its actions (mean ``|a|``, the share of components at the bounds, the mean
   change between steps); the closest approach of the grip site to the object (the
   ``object_rel`` group, cm, median over episodes; tasks without an object have none);
-  and how far the achieved goal (the object, on object tasks) got from where it started
-  (cm, median over episodes).
+  how far the achieved goal got from where it started (the norm of its change, x100:
+  cm where the goal is a position, as on the object tasks; median over episodes); how
+  close it came to the desired goal, by the task's own goal distance, in units of its
+  success threshold (below 1: the goal was reached at some step; median over episodes),
+  beside that distance at reset;
+  and the task's scalar quantities in ``info`` at each episode's end (mean over
+  episodes, so a flag such as a dropped object gives the share of episodes).
 
 The policy played is the run's final model (``--model final``, the default: the one whose
 evaluation is the run's final success; a run still training plays its newest checkpoint),
@@ -28,7 +33,7 @@ from __future__ import annotations
 import csv
 import json
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
@@ -54,6 +59,9 @@ class Played:
     action_change: float
     closest_approach_cm: float | None
     goal_moved_cm: float
+    closest_to_goal: float | None = None  # in success thresholds; None in files written before it
+    goal_at_reset: float | None = None  # the same, at reset
+    end_info: dict[str, float] = field(default_factory=dict)
 
 
 class ActionStatistics(NamedTuple):
@@ -155,11 +163,17 @@ def play(run_dir: Path, episodes: int, which: str = "final") -> Played:
     backend = env.unwrapped.backend
     group = backend.observation_groups().get("object_rel")
     distance = (lambda: float(np.linalg.norm(group.read(backend)))) if group else (lambda: np.nan)
-    actions, closest, moved, successes = [], [], [], 0
+    task = env.unwrapped.task
+
+    def to_goal(o: dict) -> float:  # in success thresholds
+        return float(task.goal_distance(o["achieved_goal"], o["desired_goal"])) / task.distance_threshold
+
+    actions, closest, moved, nearest_goal, at_reset, ends, successes = [], [], [], [], [], [], 0
     for ep in range(episodes):
         obs, info = env.reset(seed=FIRST_SEED + ep)
         start, done, taken = obs["achieved_goal"].copy(), False, []
-        near, far = distance(), 0.0
+        near, far, goal_near = distance(), 0.0, to_goal(obs)
+        at_reset.append(goal_near)
         while not done:
             action = np.asarray(policy.act(obs), dtype=np.float64)
             obs, _, terminated, truncated, info = env.step(action)
@@ -167,9 +181,12 @@ def play(run_dir: Path, episodes: int, which: str = "final") -> Played:
             taken.append(action)
             near = min(near, distance())
             far = max(far, float(np.linalg.norm(obs["achieved_goal"] - start)))
+            goal_near = min(goal_near, to_goal(obs))
         actions.append(np.stack(taken))
         closest.append(near)
         moved.append(far)
+        nearest_goal.append(goal_near)
+        ends.append(end_quantities(info))
         successes += int(info.get("is_success", 0.0) > 0.5)
     policy.close()
     stats = action_statistics(actions)
@@ -182,7 +199,20 @@ def play(run_dir: Path, episodes: int, which: str = "final") -> Played:
         stats.change,
         100 * float(np.median(closest)) if group else None,
         100 * float(np.median(moved)),
+        float(np.median(nearest_goal)),
+        float(np.median(at_reset)),
+        {k: float(np.mean([e.get(k, np.nan) for e in ends])) for k in sorted(set().union(*ends))},
     )
+
+
+def end_quantities(info: dict) -> dict[str, float]:
+    """The scalar numbers (and flags) of a step's ``info``, but its success, which
+    :class:`Played` reports already."""
+    return {
+        k: float(v)
+        for k, v in info.items()
+        if k != "is_success" and isinstance(v, (bool, int, float, np.bool_, np.number)) and np.ndim(v) == 0
+    }
 
 
 def diagnose(run_dir: Path, episodes: int = 20, which: str = "final") -> Diagnosis:
@@ -227,21 +257,26 @@ def _num(value: float | None) -> str:
     return "–" if value is None else f"{value:.1f}"
 
 
+def _ends(values: dict[str, float]) -> str:
+    return ", ".join(f"{k} {v:.2f}" for k, v in values.items()) or "–"
+
+
 def table(rows: list[Diagnosis]) -> str:
     """Markdown, one row per run."""
     lines = [
         "| run | mode | demonstrations (success) | their change per step | training episodes: success (last tenth) "
         "| played model | played: success | mean abs action | at bounds | change per step | closest approach, cm "
-        "| goal moved, cm |",
-        "|---|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|",
+        "| goal moved, x100 (cm) | closest to goal (at reset), thresholds | at the end (mean) |",
+        "|---|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for d in rows:
         p = d.played
         played = (
             f"{p.model} | {p.success:.2f} | {p.mean_abs_action:.2f} | {p.saturated:.2f} | {p.action_change:.2f} "
-            f"| {_num(p.closest_approach_cm)} | {p.goal_moved_cm:.1f}"
+            f"| {_num(p.closest_approach_cm)} | {p.goal_moved_cm:.1f} | {_change(p.closest_to_goal)} ({_change(p.goal_at_reset)}) "
+            f"| {_ends(p.end_info)}"
             if p
-            else "– | – | – | – | – | – | –"
+            else "– | – | – | – | – | – | – | – | –"
         )
         lines.append(
             f"| {d.run} | `{d.action_mode}` | {d.demonstrations} ({_pct(d.demonstration_success)}) "

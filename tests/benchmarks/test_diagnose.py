@@ -84,13 +84,22 @@ def test_a_trained_policy_is_played_and_measured(pick_and_place_run, tmp_path):
     assert p.episodes == 2 and 0.0 <= p.success <= 1.0 and 0.0 <= p.saturated <= 1.0
     # The closest approach is at most the distance at reset, measured here on the same seeds.
     env = gym.make("UnifiedManip/Arm4PickAndPlace-v0", action_mode="joint_delta")
-    at_reset = []
+    at_reset, goal_at_reset = [], []
     for ep in range(2):
-        env.reset(seed=diagnose.FIRST_SEED + ep)
+        obs, _ = env.reset(seed=diagnose.FIRST_SEED + ep)
         groups = env.unwrapped.backend.observation_groups()
         at_reset.append(100 * np.linalg.norm(groups["object_rel"].read(env.unwrapped.backend)))
+        goal_at_reset.append(np.linalg.norm(obs["achieved_goal"] - obs["desired_goal"]) / 0.05)
+    _, _, _, _, info = env.step(env.action_space.sample())
     env.close()
     assert 0.0 < p.closest_approach_cm <= np.median(at_reset) + 1e-6
+    # The goal distance in success thresholds (5 cm here), and no closer than it got.
+    assert p.goal_at_reset == pytest.approx(np.median(goal_at_reset), rel=1e-12)
+    assert 0.0 < p.closest_to_goal <= p.goal_at_reset
+    # The task's own quantities at the end: a distance, and flags as shares of the episodes.
+    assert set(p.end_info) == {"grip_to_object", "grasped", "dropped", "action_sq", "sim_unstable"} <= set(info)
+    assert p.end_info["grip_to_object"] > 0.0 and 0.0 <= p.end_info["grasped"] <= 1.0
+    assert f"| {p.closest_to_goal:.3f} ({p.goal_at_reset:.3f}) | action_sq " in diagnose.table([d])
     assert '"action_mode": "joint_delta"' in out.read_text()
 
 
