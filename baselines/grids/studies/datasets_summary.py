@@ -23,6 +23,9 @@ from collections import Counter
 from pathlib import Path
 from statistics import fmean
 
+from unified_manip.cli.output import write_json
+from unified_manip.datasets.convert import EpisodeConversion
+
 MODES = ("ee_delta", "native", "joint_delta", "joint_target_delta")
 
 
@@ -33,16 +36,15 @@ def recorded(doc: dict) -> dict:
 
 def converted(doc: dict) -> dict:
     """A converted mode: what ``convert`` kept, and how."""
-    episodes = doc["episodes"]
-    kept = [e for e in episodes if e["success_converted"]]
+    episodes = [EpisodeConversion(**e) for e in doc["episodes"]]
     return {
         "kept": doc["kept"],
         "episodes": len(episodes),
         "method": doc["method"],
         "tolerance_cm": doc["tolerance_cm"],
-        "kept_by": dict(Counter(e["replayed_by"] for e in kept).most_common()),
-        "tracking_error_mean_cm": fmean(e["tracking_error_mean_cm"] for e in episodes),
-        "left_the_path": sum(e["first_step_off"] is not None for e in episodes),
+        "kept_by": dict(Counter(e.replayed_by for e in episodes if e.kept).most_common()),
+        "tracking_error_mean_cm": fmean(e.tracking_error_mean_cm for e in episodes),
+        "left_the_path": sum(e.first_step_off is not None for e in episodes),
     }
 
 
@@ -73,9 +75,7 @@ def main() -> None:
             if not folder.is_dir():
                 parser.error(f"no datasets for {task} {version}: expected {folder}")
             doc[f"UnifiedManip/MetaWorld{task}-{version}"] = summarise(folder)
-    tmp = args.out.with_suffix(".tmp")
-    tmp.write_text(json.dumps(doc, indent=1) + "\n")
-    tmp.replace(args.out)
+    write_json(args.out, doc)
 
 
 if __name__ == "__main__":
